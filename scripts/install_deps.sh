@@ -1,0 +1,45 @@
+#!/usr/bin/env bash
+# Installs the Debian packages pb4u builds and runs with, if any is missing.
+# Quiet when everything is there. Needs root (apt-get); otherwise prints the command.
+set -euo pipefail
+
+PACKAGES=(
+  cmake ninja-build g++ pkg-config ccache
+  libtorch-dev libeigen3-dev libhdf5-dev libassimp-dev libcli11-dev libspdlog-dev
+  libyaml-cpp-dev libgtest-dev libnanoflann-dev
+  # libtorch links libblas.so.3; without this it resolves to the reference BLAS (19x slower).
+  libopenblas0-openmp
+  # Plots (docs, bench, training curves) use Debian's matplotlib with /usr/bin/python3.
+  python3-matplotlib
+)
+
+missing=()
+for p in "${PACKAGES[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "ok installed" || missing+=("$p")
+done
+
+if [ ${#missing[@]} -gt 0 ]; then
+  if [ "$(id -u)" -ne 0 ]; then
+    echo "pb4u: missing packages: ${missing[*]}" >&2
+    echo "pb4u: run as root, or: sudo apt-get install -y ${missing[*]}" >&2
+    exit 1
+  fi
+  echo "pb4u: installing ${missing[*]}"
+  export DEBIAN_FRONTEND=noninteractive
+  apt-get update -qq
+  apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi
+
+# libblas.so.3 must be OpenBLAS, not the reference implementation.
+alt=libblas.so.3-$(dpkg-architecture -qDEB_HOST_MULTIARCH 2>/dev/null || echo x86_64-linux-gnu)
+current=$(update-alternatives --query "$alt" 2>/dev/null | awk '/^Value:/ {print $2}')
+if [ -n "$current" ] && [[ "$current" != *openblas* ]]; then
+  if [ "$(id -u)" -eq 0 ]; then
+    best=$(update-alternatives --list "$alt" | grep openblas-openmp | head -n1)
+    [ -n "$best" ] && update-alternatives --quiet --set "$alt" "$best"
+    echo "pb4u: libblas.so.3 now points to $best"
+  else
+    echo "pb4u: warning: libblas.so.3 is the slow reference BLAS ($current); as root run:" >&2
+    echo "  update-alternatives --config $alt" >&2
+  fi
+fi

@@ -1,0 +1,7 @@
+#include "pb4u/cli/commands.h"
+#include "pb4u/util/runtime.h"
+
+int main(int argc, char** argv) {
+  pb4u::ensure_fast_blas(argc, argv);  // may re-execute with OPENBLAS_CORETYPE set
+  return pb4u::run_cli(argc, argv);
+}

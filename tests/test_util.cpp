@@ -1,0 +1,65 @@
+#include "test_util.h"
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace pb4u::test {
+namespace fs = std::filesystem;
+
+std::string temp_dir(const std::string& tag) {
+  static std::atomic<int> counter{0};
+  fs::path dir = fs::temp_directory_path() /
+                 ("pb4u_test_" + tag + "_" + std::to_string(::getpid()) + "_" +
+                  std::to_string(counter++));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir.string();
+}
+
+void write_file(const std::string& path, const std::string& text) {
+  std::ofstream(path, std::ios::binary) << text;
+}
+
+std::string read_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+CommandResult run_pb4u(const std::string& args) {
+  std::string dir = temp_dir("cmd");
+  std::string out = dir + "/out.txt", err = dir + "/err.txt";
+  std::string cmd = std::string(PB4U_BINARY) + " " + args + " >" + out + " 2>" + err + " </dev/null";
+  int status = std::system(cmd.c_str());
+  CommandResult r;
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  r.out = read_file(out);
+  r.err = read_file(err);
+  fs::remove_all(dir);
+  return r;
+}
+
+TriMesh grid_mesh(int n, double size) {
+  TriMesh m;
+  m.V.resize((n + 1) * (n + 1), 3);
+  for (int i = 0; i <= n; ++i)
+    for (int j = 0; j <= n; ++j) m.V.row(i * (n + 1) + j) << size * j / n, 0.0, size * i / n;
+  m.F.resize(2 * n * n, 3);
+  int f = 0;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      int a = i * (n + 1) + j, b = a + 1, c = a + n + 1, d = c + 1;
+      // Normals point up (+y): (b - a) x (c - a) = x-axis x z-axis = -y, so order a, c, b.
+      m.F.row(f++) << a, c, b;
+      m.F.row(f++) << b, c, d;
+    }
+  return m;
+}
+
+}  // namespace pb4u::test

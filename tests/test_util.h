@@ -1,0 +1,26 @@
+#pragma once
+// Helpers shared by the test suites.
+#include <string>
+
+#include "pb4u/mesh/triangle_mesh.h"
+
+namespace pb4u::test {
+
+// A fresh empty directory under the system temp dir, unique per call.
+std::string temp_dir(const std::string& tag);
+
+// Writes `text` to `path` (overwriting).
+void write_file(const std::string& path, const std::string& text);
+std::string read_file(const std::string& path);
+
+struct CommandResult {
+  int exit_code = -1;
+  std::string out, err;
+};
+// Runs the pb4u binary with `args` (shell-quoted by the caller) and captures its streams.
+CommandResult run_pb4u(const std::string& args);
+
+// An n x n grid of unit squares split into 2 n^2 triangles, in the xz plane at y = 0.
+TriMesh grid_mesh(int n, double size = 1.0);
+
+}  // namespace pb4u::test
