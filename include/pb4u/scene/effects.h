@@ -1,0 +1,23 @@
+#pragma once
+// The effects a scene calls for (SPEC 6). Stretch, bending and inertia are the cloth itself
+// and always on; these four are optional, and only what is on is built and computed.
+#include <string>
+#include <vector>
+
+namespace pb4u {
+
+struct Effects {
+  bool gravity = true;
+  bool collision = true;  // needs a body
+  bool friction = true;   // needs a body
+  bool pins = false;
+
+  bool needs_body() const { return collision || friction; }
+
+  // From a scene's list, e.g. ["gravity", "collision"]. Throws pb4u::Error naming `where`
+  // on an unknown name.
+  static Effects from_names(const std::vector<std::string>& names, const std::string& where);
+  std::vector<std::string> names() const;
+};
+
+}  // namespace pb4u
