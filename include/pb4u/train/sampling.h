@@ -1,0 +1,30 @@
+#pragma once
+// Random choices made per training step: material (SPEC 2 ranges) and effect set (SPEC 6).
+#include <random>
+
+#include "pb4u/config/config_io.h"
+#include "pb4u/physics/material.h"
+#include "pb4u/scene/effects.h"
+
+namespace pb4u {
+
+// Density and lambda uniform, mu and bending log-uniform within `ranges`; thickness from `base`.
+Material sample_material(const MaterialRanges& ranges, const Material& base, std::mt19937_64& rng);
+
+// How often each optional effect is on in a training sample. The network sees scenes with and
+// without gravity and body so that, e.g., a scene without gravity does not fall.
+struct EffectSampling {
+  double p_gravity = 0.8;
+  double p_body = 0.8;      // body present -> collision on, friction with p_friction
+  double p_friction = 0.5;  // given a body
+  template <class V>
+  void visit(V& v) {
+    v("p_gravity", p_gravity, in_range(0, 1));
+    v("p_body", p_body, in_range(0, 1));
+    v("p_friction", p_friction, in_range(0, 1));
+  }
+};
+
+Effects sample_effects(const EffectSampling& sampling, std::mt19937_64& rng);
+
+}  // namespace pb4u

@@ -1,0 +1,50 @@
+#include "pb4u/train/sampling.h"
+
+#include <cmath>
+
+#include "pb4u/util/error.h"
+
+namespace pb4u {
+namespace {
+
+void check_range(const std::vector<double>& r, const char* key, bool log_scale) {
+  if (r.size() != 2 || !(r[0] <= r[1]) || (log_scale && !(r[0] > 0)))
+    throw Error(std::string("materials.") + key + ": expected [low, high] with low <= high" +
+                (log_scale ? " and low > 0" : ""));
+}
+
+double uniform(const std::vector<double>& r, std::mt19937_64& rng) {
+  return std::uniform_real_distribution<double>(r[0], r[1])(rng);
+}
+
+double log_uniform(const std::vector<double>& r, std::mt19937_64& rng) {
+  return std::exp(std::uniform_real_distribution<double>(std::log(r[0]), std::log(r[1]))(rng));
+}
+
+}  // namespace
+
+Material sample_material(const MaterialRanges& ranges, const Material& base, std::mt19937_64& rng) {
+  check_range(ranges.density, "density", false);
+  check_range(ranges.mu, "mu", true);
+  check_range(ranges.lambda, "lambda", false);
+  check_range(ranges.bending, "bending", true);
+  Material m = base;
+  m.density = uniform(ranges.density, rng);
+  m.mu = log_uniform(ranges.mu, rng);
+  m.lambda = uniform(ranges.lambda, rng);
+  m.bending = log_uniform(ranges.bending, rng);
+  return m;
+}
+
+Effects sample_effects(const EffectSampling& s, std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> u(0, 1);
+  Effects e;
+  e.gravity = u(rng) < s.p_gravity;
+  bool body = u(rng) < s.p_body;
+  e.collision = body;
+  e.friction = body && u(rng) < s.p_friction;
+  e.pins = false;
+  return e;
+}
+
+}  // namespace pb4u
