@@ -35,7 +35,7 @@ for t in "${TARGETS[@]}"; do
   log=$B/$t.log
   set +e
   $B/tests/fuzz/$t "$B/corpus/$t" -max_total_time="$SECONDS_PER_TARGET" -max_len=65536 \
-    -rss_limit_mb=4096 -artifact_prefix="$B/findings/$t/" -print_final_stats=1 >"$log" 2>&1
+    -rss_limit_mb=4096 -timeout=10 -artifact_prefix="$B/findings/$t/" -print_final_stats=1 >"$log" 2>&1
   rc=$?
   set -e
   execs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$log" | grep -o '[0-9]*$' || echo 0)
