@@ -1,0 +1,51 @@
+#pragma once
+// Everything `simulate` writes, frame by frame: garment (and body) meshes per frame as OBJ
+// or PLY, a PC2 point cache per mesh, one HDF5 with all frames, and per-frame energies as
+// CSV. Each file is written atomically; finish() can run after a failure and keeps every
+// frame written so far.
+#include <Eigen/Core>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace pb4u {
+
+struct RolloutOutputs {
+  std::string mesh_format = "obj";  // obj | ply | none: one file per frame and mesh
+  bool point_cache = true;          // garment.pc2 (+ body.pc2)
+  bool hdf5 = true;                 // rollout.h5
+  bool energies_csv = true;         // energies.csv
+  double fps = 30.0;
+};
+
+class RolloutWriter {
+ public:
+  // body_faces may be empty (no body in the scene). `out_dir` must exist.
+  RolloutWriter(std::string out_dir, Eigen::MatrixXi garment_faces, Eigen::MatrixXi body_faces,
+                RolloutOutputs outputs);
+
+  // One frame: garment positions (n x 3, m), body positions (nb x 3, m; ignored without a
+  // body) and the frame's energies (name, J) in a fixed order across frames.
+  void add_frame(const Eigen::MatrixXd& garment, const Eigen::MatrixXd& body,
+                 const std::vector<std::pair<std::string, double>>& energies);
+
+  // Writes the point caches, the HDF5 and the CSV for the frames added so far. Returns the
+  // list of files written (per-frame meshes included).
+  std::vector<std::string> finish();
+
+  int num_frames() const { return static_cast<int>(garment_frames_.size()); }
+
+ private:
+  std::string dir_;
+  Eigen::MatrixXi garment_faces_, body_faces_;
+  RolloutOutputs outputs_;
+  std::vector<Eigen::MatrixXd> garment_frames_, body_frames_;
+  std::vector<std::string> energy_names_;
+  std::vector<std::vector<double>> energies_;
+  std::vector<std::string> written_;
+};
+
+// "<dir>/<stem>_0007.<ext>"
+std::string frame_file(const std::string& dir, const std::string& stem, int frame, const std::string& ext);
+
+}  // namespace pb4u

@@ -1,0 +1,140 @@
+#include "pb4u/sim/rollout_writer.h"
+
+#include <H5Cpp.h>
+
+#include <cstdio>
+#include <sstream>
+
+#include "pb4u/io/mesh_io.h"
+#include "pb4u/sim/point_cache.h"
+#include "pb4u/util/atomic_file.h"
+#include "pb4u/util/error.h"
+
+namespace pb4u {
+
+std::string frame_file(const std::string& dir, const std::string& stem, int frame,
+                       const std::string& ext) {
+  char name[64];
+  std::snprintf(name, sizeof name, "%s_%04d.%s", stem.c_str(), frame, ext.c_str());
+  return dir + "/" + name;
+}
+
+RolloutWriter::RolloutWriter(std::string out_dir, Eigen::MatrixXi garment_faces,
+                             Eigen::MatrixXi body_faces, RolloutOutputs outputs)
+    : dir_(std::move(out_dir)), garment_faces_(std::move(garment_faces)),
+      body_faces_(std::move(body_faces)), outputs_(std::move(outputs)) {
+  if (outputs_.mesh_format != "obj" && outputs_.mesh_format != "ply" && outputs_.mesh_format != "none")
+    throw Error("outputs.mesh_format: must be obj | ply | none, got '" + outputs_.mesh_format + "'");
+}
+
+void RolloutWriter::add_frame(const Eigen::MatrixXd& garment, const Eigen::MatrixXd& body,
+                              const std::vector<std::pair<std::string, double>>& energies) {
+  const int frame = num_frames();
+  if (frame == 0)
+    for (const auto& e : energies) energy_names_.push_back(e.first);
+  std::vector<double> values;
+  for (size_t i = 0; i < energies.size(); ++i) {
+    if (i >= energy_names_.size() || energies[i].first != energy_names_[i])
+      throw Error("rollout: energy terms changed between frames");
+    values.push_back(energies[i].second);
+  }
+  const bool has_body = body_faces_.rows() > 0;
+  if (outputs_.mesh_format != "none") {
+    std::string path = frame_file(dir_, "garment", frame, outputs_.mesh_format);
+    write_mesh(path, TriMesh{garment, garment_faces_});
+    written_.push_back(path);
+    if (has_body) {
+      path = frame_file(dir_, "body", frame, outputs_.mesh_format);
+      write_mesh(path, TriMesh{body, body_faces_});
+      written_.push_back(path);
+    }
+  }
+  garment_frames_.push_back(garment);
+  if (has_body) body_frames_.push_back(body);
+  energies_.push_back(std::move(values));
+}
+
+namespace {
+
+void write_frames_dataset(H5::Group& group, const std::vector<Eigen::MatrixXd>& frames,
+                          const Eigen::MatrixXi& faces) {
+  const hsize_t T = frames.size(), n = T ? frames[0].rows() : 0;
+  std::vector<float> pos(T * n * 3);
+  for (hsize_t t = 0; t < T; ++t)
+    for (hsize_t v = 0; v < n; ++v)
+      for (int k = 0; k < 3; ++k) pos[(t * n + v) * 3 + k] = static_cast<float>(frames[t](v, k));
+  hsize_t dims[3] = {T, n, 3};
+  group.createDataSet("positions", H5::PredType::NATIVE_FLOAT, H5::DataSpace(3, dims))
+      .write(pos.data(), H5::PredType::NATIVE_FLOAT);
+  std::vector<int32_t> f(static_cast<size_t>(faces.rows()) * 3);
+  for (Eigen::Index i = 0; i < faces.rows(); ++i)
+    for (int k = 0; k < 3; ++k) f[i * 3 + k] = faces(i, k);
+  hsize_t fdims[2] = {static_cast<hsize_t>(faces.rows()), 3};
+  group.createDataSet("faces", H5::PredType::NATIVE_INT32, H5::DataSpace(2, fdims))
+      .write(f.data(), H5::PredType::NATIVE_INT32);
+}
+
+}  // namespace
+
+std::vector<std::string> RolloutWriter::finish() {
+  const bool has_body = body_faces_.rows() > 0;
+  if (outputs_.point_cache) {
+    write_pc2(dir_ + "/garment.pc2", garment_frames_);
+    written_.push_back(dir_ + "/garment.pc2");
+    if (has_body) {
+      write_pc2(dir_ + "/body.pc2", body_frames_);
+      written_.push_back(dir_ + "/body.pc2");
+    }
+  }
+  if (outputs_.energies_csv) {
+    AtomicFile csv(dir_ + "/energies.csv");
+    csv.stream() << "frame";
+    for (const auto& name : energy_names_) csv.stream() << ',' << name;
+    csv.stream() << '\n';
+    char buf[32];
+    for (size_t t = 0; t < energies_.size(); ++t) {
+      csv.stream() << t;
+      for (double v : energies_[t]) {
+        std::snprintf(buf, sizeof buf, ",%.9g", v);
+        csv.stream() << buf;
+      }
+      csv.stream() << '\n';
+    }
+    csv.commit();
+    written_.push_back(dir_ + "/energies.csv");
+  }
+  if (outputs_.hdf5) {
+    const std::string path = dir_ + "/rollout.h5";
+    const std::string tmp = temp_path_for(path);
+    H5::Exception::dontPrint();
+    try {
+      H5::H5File file(tmp, H5F_ACC_TRUNC);
+      H5::Group g = file.createGroup("garment");
+      write_frames_dataset(g, garment_frames_, garment_faces_);
+      if (has_body) {
+        H5::Group b = file.createGroup("body");
+        write_frames_dataset(b, body_frames_, body_faces_);
+      }
+      H5::Group e = file.createGroup("energies");
+      for (size_t i = 0; i < energy_names_.size(); ++i) {
+        std::vector<double> col;
+        for (const auto& row : energies_) col.push_back(row[i]);
+        hsize_t dims[1] = {col.size()};
+        e.createDataSet(energy_names_[i], H5::PredType::NATIVE_DOUBLE, H5::DataSpace(1, dims))
+            .write(col.data(), H5::PredType::NATIVE_DOUBLE);
+      }
+      H5::Attribute fps = file.openGroup("/").createAttribute("fps", H5::PredType::NATIVE_DOUBLE,
+                                                             H5::DataSpace(H5S_SCALAR));
+      fps.write(H5::PredType::NATIVE_DOUBLE, &outputs_.fps);
+      file.close();
+    } catch (const H5::Exception& ex) {
+      std::remove(tmp.c_str());
+      fail_file(path, "cannot write HDF5: " + ex.getDetailMsg());
+    }
+    commit_file(tmp, path);
+    written_.push_back(path);
+  }
+  return written_;
+}
+
+}  // namespace pb4u
