@@ -70,7 +70,7 @@ void run(const Scale& scale, const std::string& kind, bool split, int repeats) {
   for (int r = 0; r <= repeats; ++r) {  // r = 0 warms up
     c10::InferenceMode guard;
     auto t0 = std::chrono::steady_clock::now();
-    g = build_graph(s.state, topo, c.world_edge_radius, c.material_ranges);
+    g = build_graph(s.state, topo, c.graph_options());
     double graph_ms = ms_since(t0);
     StageTimes t;
     model->forward(g, K, &t);

@@ -23,7 +23,7 @@ Pb4uNet warmed_model(const ModelConfig& c, unsigned seed = 0) {
   for (unsigned i = 0; i < 3; ++i) {
     auto s = tiny_scene(100 + i, true);
     GarmentTopology t = build_garment_topology(s.rest);
-    model->forward(build_graph(s.state, t, c.world_edge_radius, c.material_ranges), 2);
+    model->forward(build_graph(s.state, t, c.graph_options()), 2);
   }
   model->eval();
   return model;
@@ -32,7 +32,7 @@ Pb4uNet warmed_model(const ModelConfig& c, unsigned seed = 0) {
 torch::Tensor predict(Pb4uNet& model, const test::TinyScene& s, int64_t K = -1) {
   GarmentTopology t = build_garment_topology(s.rest);
   const ModelConfig& c = model->config;
-  GraphBatch g = build_graph(s.state, t, c.world_edge_radius, c.material_ranges);
+  GraphBatch g = build_graph(s.state, t, c.graph_options());
   torch::NoGradGuard no_grad;
   return model->forward(g, K >= 0 ? K : model->propagation_steps_for(g.mean_edge_length));
 }
@@ -144,7 +144,7 @@ TEST(Pb4uNet, NormalisersFreezeAfterWarmupAndGradientsFlow) {
   model->calibrate(0.04);
   auto s = tiny_scene(17);
   GarmentTopology t = build_garment_topology(s.rest);
-  GraphBatch g = build_graph(s.state, t, c.world_edge_radius, c.material_ranges);
+  GraphBatch g = build_graph(s.state, t, c.graph_options());
   for (int i = 0; i < 4; ++i) model->forward(g, 3);
   EXPECT_EQ(model->vertex_normalizer->accumulations.item<int64_t>(), 2);
   EXPECT_TRUE(model->vertex_normalizer->frozen());
