@@ -45,8 +45,9 @@ GraphBatch build_graph(const FrameState& state, const GarmentTopology& topology,
   check_points(state.x, n, "x");
   check_points(state.x_prev, n, "x_prev");
   if (!(state.dt > 0)) fail_file("frame state", "dt must be positive");
-  auto x = state.x.to(torch::kFloat32), x_prev = state.x_prev.to(torch::kFloat32);
-  auto v = (x - x_prev) / state.dt;
+  // Velocity from the caller's dtype: float64 positions far from the origin keep their digits.
+  auto v = ((state.x - state.x_prev) / state.dt).to(torch::kFloat32);
+  auto x = state.x.to(torch::kFloat32);
   auto scene = scene_features(state, options.material_ranges);
 
   auto type = one_hot_rows(n, 0);
