@@ -26,6 +26,7 @@ ClothGeometry make_cloth_geometry(const TriMesh& rest, torch::Dtype dtype, torch
     throw Error("cloth geometry: the garment mesh is empty");
   if (F.minCoeff() < 0 || F.maxCoeff() >= V.rows())
     throw Error("cloth geometry: face index out of range [0, " + std::to_string(V.rows()) + ")");
+  if (!c10::isFloatingType(dtype)) throw Error("cloth geometry: the dtype must be floating point");
   if (!V.allFinite()) throw Error("cloth geometry: the garment mesh has non-finite vertices");
 
   ClothGeometry g;

@@ -4,10 +4,15 @@
 
 namespace pb4u {
 
+namespace {
+torch::Tensor penetration(const torch::Tensor& x_next, const BodyContact& contact, double eps) {
+  return (eps - ((x_next - contact.point) * contact.normal).sum(1)).clamp_min(0);
+}
+}  // namespace
+
 torch::Tensor collision_energy(const torch::Tensor& x_next, const BodyContact& contact,
                                double eps, double weight) {
-  auto d = ((x_next - contact.point) * contact.normal).sum(1);
-  return weight * (eps - d).clamp_min(0).pow(3).sum();
+  return weight * penetration(x_next, contact, eps).pow(3).sum();
 }
 
 CollisionTerm::CollisionTerm(const CollisionConfig& config, double weight)
@@ -18,6 +23,16 @@ torch::Tensor CollisionTerm::energy(const torch::Tensor& x_next, const FrameStat
   check_positions(x_next, cloth);
   if (!contact) throw Error("physics: the collision term needs the step's body contact");
   return collision_energy(x_next, *contact, eps_, weight_);
+}
+
+}  // namespace pb4u
+
+namespace pb4u {
+
+torch::Tensor CollisionTerm::contact_stiffness(const torch::Tensor& x_next, const FrameState&,
+                                               const ClothGeometry&, const BodyContact* contact) const {
+  if (!contact) return {};
+  return 6 * weight_ * penetration(x_next.detach(), *contact, eps_);
 }
 
 }  // namespace pb4u

@@ -11,6 +11,8 @@ torch::Tensor inertia_energy(const torch::Tensor& x_next, const torch::Tensor& x
 torch::Tensor InertiaTerm::energy(const torch::Tensor& x_next, const FrameState& state,
                                   const ClothGeometry& cloth, const BodyContact*) const {
   check_positions(x_next, cloth);
+  check_positions(state.x, cloth);
+  check_positions(state.x_prev, cloth);
   return inertia_energy(x_next, state.x, state.x_prev,
                         cloth.vertex_masses(state.material.density), state.dt);
 }

@@ -1,9 +1,13 @@
 #include "pb4u/physics/reference_solver.h"
 
+#include <Eigen/SparseCholesky>
+
 #include <cmath>
 #include <deque>
+#include <functional>
 
 #include "pb4u/physics/energy_report.h"
+#include "pb4u/physics/quasi_newton_hessian.h"
 #include "pb4u/util/error.h"
 
 namespace pb4u {
@@ -14,29 +18,50 @@ struct Pair {
   double rho;
 };
 
-// L-BFGS two-loop recursion: approximately H^-1 g, with the initial inverse Hessian
-// gamma * P. P = dt^2 / m is the exact inverse Hessian of the inertia term, so the first
-// step is already scaled like an implicit-Euler step.
+// r (3k, xyz per vertex) -> H0^-1 r.
+using InverseHessian = std::function<torch::Tensor(const torch::Tensor&, const std::deque<Pair>&)>;
+
+// L-BFGS two-loop recursion: approximately H^-1 g, starting from H0^-1.
 torch::Tensor lbfgs_direction(const torch::Tensor& g, const std::deque<Pair>& history,
-                              const torch::Tensor& P) {
+                              const InverseHessian& initial) {
   torch::Tensor r = g.clone();
   std::vector<double> alpha(history.size());
   for (size_t k = history.size(); k-- > 0;) {
     alpha[k] = history[k].rho * torch::dot(history[k].s, r).item<double>();
     r -= alpha[k] * history[k].y;
   }
-  double gamma = 1.0;
-  if (!history.empty()) {
-    const Pair& last = history.back();
-    gamma = (1.0 / last.rho) / torch::dot(last.y, P * last.y).item<double>();
-  }
-  r = gamma * P * r;
+  r = initial(r, history);
   for (size_t k = 0; k < history.size(); ++k) {
     double beta = history[k].rho * torch::dot(history[k].y, r).item<double>();
     r += (alpha[k] - beta) * history[k].s;
   }
   return -r;
 }
+
+// The elastic initial Hessian: the per-frame part (inertia + membrane) plus the contacts'
+// current curvature on the diagonal, refactorised (same sparsity) only when contacts change it.
+struct ElasticSolve {
+  Eigen::SparseMatrix<double> base;
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt;
+
+  void factorize(const torch::Tensor& contact_diagonal) {
+    Eigen::SparseMatrix<double> H = base;
+    if (contact_diagonal.defined()) {
+      torch::Tensor c = contact_diagonal.detach().to(torch::kCPU, torch::kFloat64).contiguous();
+      H.diagonal() += Eigen::Map<const Eigen::VectorXd>(c.data_ptr<double>(), c.numel());
+    }
+    ldlt.factorize(H);
+    if (ldlt.info() != Eigen::Success)
+      throw Error("reference solver: the elastic initial Hessian is not positive definite");
+  }
+  torch::Tensor operator()(const torch::Tensor& r) const {
+    torch::Tensor c = r.detach().to(torch::kCPU, torch::kFloat64).contiguous();
+    const Eigen::Index k = c.numel() / 3;
+    Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>> R(c.data_ptr<double>(), k, 3);
+    Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> X = ldlt.solve(R);
+    return torch::from_blob(X.data(), {k * 3}, torch::kFloat64).to(r.options()).clone();
+  }
+};
 
 }  // namespace
 
@@ -54,18 +79,22 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
                  .to(opts);
     x_base = x_base + g * (state.dt * state.dt);
   }
-  torch::Tensor free = torch::arange(n, torch::TensorOptions().dtype(torch::kInt64).device(state.x.device()));
-  if (state.effects.pins && state.pinned.defined() && state.pinned.any().item<bool>()) {
-    if (!state.pin_targets.defined() || state.pin_targets.sizes() != state.x.sizes())
-      throw Error("scene: pins are on but the pin targets are not (n, 3)");
-    auto pinned = state.pinned.to(state.x.device(), torch::kBool);
-    x_base = torch::where(pinned.unsqueeze(1), state.pin_targets.to(opts), x_base);
-    free = torch::nonzero(~pinned).squeeze(1);
+  torch::Tensor pinned = torch::zeros({n}, torch::TensorOptions().dtype(torch::kBool).device(state.x.device()));
+  if (state.effects.pins && state.pinned.defined()) {
+    if (state.pinned.numel() != n)
+      throw Error("scene: pins are on but the pinned mask does not have one entry per vertex");
+    pinned = state.pinned.to(state.x.device(), torch::kBool).reshape({n});
+    if (pinned.any().item<bool>()) {
+      if (!state.pin_targets.defined() || state.pin_targets.sizes() != state.x.sizes())
+        throw Error("scene: pins are on but the pin targets are not (n, 3)");
+      x_base = torch::where(pinned.unsqueeze(1), state.pin_targets.to(opts), x_base);
+    }
   }
   x_base = x_base.detach();
+  torch::Tensor free = torch::nonzero(~pinned).squeeze(1);
+  const int64_t nf = free.size(0);
 
   SolverResult result;
-  const int64_t nf = free.size(0);
   auto evaluate = [&](const torch::Tensor& q, torch::Tensor* grad) {
     torch::Tensor p = q.detach().reshape({nf, 3}).requires_grad_(true);
     torch::Tensor x = x_base.index_copy(0, free, p);
@@ -75,24 +104,64 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
     return E.item<double>();
   };
 
-  torch::Tensor q = x_base.index_select(0, free).reshape({-1});
-  torch::Tensor g;
-  double E = evaluate(q, &g);
-  // Inverse inertia Hessian per coordinate; massless (unreferenced) vertices get a unit scale.
+  // dt^2 / m per coordinate: the inverse inertia Hessian. Massless (unreferenced) vertices get a unit scale.
   torch::Tensor m = cloth.vertex_masses(state.material.density).index_select(0, free);
   torch::Tensor P = torch::where(m > 0, (state.dt * state.dt) / m, torch::ones_like(m))
                         .repeat_interleave(3).to(opts);
+  InverseHessian initial;
+  std::shared_ptr<ElasticSolve> elastic;
+  if (config.initial_hessian == "elastic") {
+    std::vector<int> row(n, -1);
+    torch::Tensor free_cpu = free.to(torch::kCPU);
+    for (int64_t k = 0; k < nf; ++k) row[free_cpu[k].item<int64_t>()] = static_cast<int>(k);
+    elastic = std::make_shared<ElasticSolve>();
+    elastic->base = quasi_newton_hessian(cloth, state.material, state.dt, row);
+    elastic->ldlt.analyzePattern(elastic->base);
+    initial = [elastic](const torch::Tensor& r, const std::deque<Pair>&) { return (*elastic)(r); };
+  } else {
+    // Scaled by the newest curvature pair, as in standard L-BFGS.
+    initial = [P](const torch::Tensor& r, const std::deque<Pair>& history) {
+      double gamma = 1.0;
+      if (!history.empty())
+        gamma = (1.0 / history.back().rho) /
+                torch::dot(history.back().y, P * history.back().y).item<double>();
+      return gamma * P * r;
+    };
+  }
+  // Sum of the terms' contact curvature at the free vertices (undefined without contacts).
+  auto contact_diagonal = [&](const torch::Tensor& q) {
+    torch::Tensor x = x_base.index_copy(0, free, q.detach().reshape({nf, 3}));
+    torch::Tensor sum;
+    for (const auto& term : terms) {
+      torch::Tensor c = term->contact_stiffness(x, state, cloth, contact);
+      if (c.defined()) sum = sum.defined() ? sum + c : c;
+    }
+    return sum.defined() ? sum.index_select(0, free) : sum;
+  };
+  bool factorized = false;
 
+  torch::Tensor q = x_base.index_select(0, free).reshape({-1});
+  torch::Tensor g;
+  double E = evaluate(q, &g);
   std::deque<Pair> history;
-  double gnorm = nf ? g.abs().max().item<double>() : 0.0;
-  while (gnorm > config.gradient_tolerance && result.iterations < config.max_iterations) {
-    torch::Tensor d = lbfgs_direction(g, history, P);
+  double step_norm = 0;
+  while (nf > 0) {
+    if (elastic) {
+      torch::Tensor c = contact_diagonal(q);
+      if (!factorized || c.defined()) elastic->factorize(c);
+      factorized = true;
+    }
+    torch::Tensor d = lbfgs_direction(g, history, initial);
     double slope = torch::dot(g, d).item<double>();
-    if (!(slope < 0)) {  // lost descent (curvature noise): restart from the preconditioned gradient
+    if (!(slope < 0)) {  // lost descent (curvature noise): restart from the initial Hessian
       history.clear();
-      d = -P * g;
+      d = lbfgs_direction(g, history, initial);
       slope = torch::dot(g, d).item<double>();
     }
+    step_norm = d.abs().max().item<double>();
+    if (step_norm <= config.step_tolerance || !(slope < 0) ||
+        result.iterations >= config.max_iterations)
+      break;
     double t = 1.0;
     bool accepted = false;
     torch::Tensor q_new, g_new;
@@ -115,14 +184,14 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
     q = q_new;
     g = g_new;
     E = E_new;
-    gnorm = g.abs().max().item<double>();
     ++result.iterations;
   }
 
   result.x_next = x_base.index_copy(0, free, q.reshape({nf, 3})).detach();
   result.energy = E;
-  result.gradient_norm = gnorm;
-  result.converged = gnorm <= config.gradient_tolerance;
+  result.gradient_norm = nf ? g.abs().max().item<double>() : 0.0;
+  result.step_norm = step_norm;
+  result.converged = step_norm <= config.step_tolerance;
   return result;
 }
 

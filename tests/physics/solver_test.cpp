@@ -46,8 +46,11 @@ TEST(ReferenceSolver, PinnedClothSettlesIntoADrapeBelowThePins) {
   double peak = *std::max_element(kinetic.begin(), kinetic.end());
   EXPECT_GT(peak, 0.0);
   EXPECT_LT(kinetic.back(), 0.05 * peak) << "kinetic energy did not decay";
-  EXPECT_TRUE(last.converged) << "gradient norm " << last.gradient_norm;
-  EXPECT_LE(last.gradient_norm, config.solver.gradient_tolerance);
+  EXPECT_TRUE(last.converged) << "step " << last.step_norm << " m";
+  EXPECT_LE(last.step_norm, config.solver.step_tolerance);
+  // The drape is an energy minimum: the residual force is tiny next to a vertex's weight.
+  double weight = (cloth.vertex_masses(state.material.density).min() * 9.81).item<double>();
+  EXPECT_LT(last.gradient_norm, 1e-2 * weight);
   // Pins held exactly; everything else hangs below them.
   EXPECT_TRUE(torch::equal(state.x[0], state.pin_targets[0]));
   EXPECT_TRUE(torch::equal(state.x[n], state.pin_targets[n]));

@@ -16,6 +16,10 @@ class CollisionTerm : public PhysicsTerm {
   std::string name() const override { return "collision"; }
   torch::Tensor energy(const torch::Tensor& x_next, const FrameState& state,
                        const ClothGeometry& cloth, const BodyContact* contact) const override;
+  // 6 w max(eps - d, 0): the penalty's second derivative along the normal.
+  torch::Tensor contact_stiffness(const torch::Tensor& x_next, const FrameState& state,
+                                  const ClothGeometry& cloth,
+                                  const BodyContact* contact) const override;
   double weight() const { return weight_; }
 
  private:

@@ -20,6 +20,10 @@ class FrictionTerm : public PhysicsTerm {
   std::string name() const override { return "friction"; }
   torch::Tensor energy(const torch::Tensor& x_next, const FrameState& state,
                        const ClothGeometry& cloth, const BodyContact* contact) const override;
+  // mu m |g| / sqrt(|s_t|^2 + d^2): the smoothed slip norm's tangential curvature.
+  torch::Tensor contact_stiffness(const torch::Tensor& x_next, const FrameState& state,
+                                  const ClothGeometry& cloth,
+                                  const BodyContact* contact) const override;
 
  private:
   FrictionConfig config_;

@@ -26,6 +26,14 @@ class PhysicsTerm {
   // that need it throw pb4u::Error when it is null.
   virtual torch::Tensor energy(const torch::Tensor& x_next, const FrameState& state,
                                const ClothGeometry& cloth, const BodyContact* contact) const = 0;
+  // A per-vertex isotropic curvature estimate (n, N/m) of the parts of this term that change
+  // quickly with x_next (contacts), which the reference solver adds to its fixed initial
+  // Hessian each iteration; undefined for terms it already covers or does not need.
+  virtual torch::Tensor contact_stiffness(const torch::Tensor& x_next, const FrameState& state,
+                                          const ClothGeometry& cloth,
+                                          const BodyContact* contact) const {
+    return {};
+  }
 };
 
 using TermList = std::vector<std::unique_ptr<PhysicsTerm>>;
