@@ -34,21 +34,16 @@ int main(int argc, char** argv) {
   const std::vector<int> budgets = {5, 10, 20, 50, 100, 200, 400};
   const double radius = 0.25;
 
-  TriMesh sphere = test::icosphere(radius, 4, Eigen::RowVector3d::Zero());
+  const int subdivisions = 4;
   std::printf("solver_bench: cloth 0.6 m square dropped on a sphere (r = %.2f m, %d faces), "
               "float64, %d threads, L-BFGS history %d, initial Hessian %s\n", radius,
-              static_cast<int>(sphere.F.rows()), threads, history, initial.c_str());
+              20 << (2 * subdivisions), threads, history, initial.c_str());
   std::printf("| grid | vertices | triangles | budget | iterations | evaluations | ms/frame (median) | energy (J) | "
               "energy - best (J) | max grad (N) | step (m) | converged |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (int n : resolutions) {
-    TriMesh g = test::grid_mesh(n, 0.6);
-    g.V.col(0).array() -= 0.3;
-    g.V.col(2).array() -= 0.3;
-    g.V.col(1).array() += radius + 0.01;
+    TriMesh g;
+    FrameState state = test::cloth_above_sphere(n, 0.6, radius, 0.01, subdivisions, &g);
     ClothGeometry cloth = make_cloth_geometry(g);
-    FrameState state = test::resting_state(test::positions_tensor(g.V));
-    state.effects.gravity = state.effects.collision = state.effects.friction = true;
-    state.body = test::static_body(sphere);
     PhysicsConfig config;
     config.solver.history = history;
     config.solver.initial_hessian = initial;

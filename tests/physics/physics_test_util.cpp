@@ -1,5 +1,7 @@
 #include "physics_test_util.h"
 
+#include "test_util.h"
+
 #include <map>
 #include <utility>
 
@@ -70,6 +72,18 @@ FrameState resting_state(const torch::Tensor& x) {
   s.x_prev = x.clone();
   s.effects.gravity = s.effects.collision = s.effects.friction = s.effects.pins = false;
   return s;
+}
+
+FrameState cloth_above_sphere(int grid, double size, double radius, double gap, int subdivisions,
+                              TriMesh* garment) {
+  *garment = grid_mesh(grid, size);
+  garment->V.col(0).array() -= size / 2;
+  garment->V.col(2).array() -= size / 2;
+  garment->V.col(1).array() += radius + gap;
+  FrameState state = resting_state(positions_tensor(garment->V));
+  state.effects.gravity = state.effects.collision = state.effects.friction = true;
+  state.body = static_body(icosphere(radius, subdivisions, Eigen::RowVector3d::Zero()));
+  return state;
 }
 
 }  // namespace pb4u::test

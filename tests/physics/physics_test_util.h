@@ -21,4 +21,10 @@ BodyFrame static_body(const TriMesh& body, torch::Dtype dtype = torch::kFloat64)
 // The garment at rest at positions `x`, at rest in time (x_prev = x), all effects off.
 FrameState resting_state(const torch::Tensor& x);
 
+// A horizontal square cloth (grid x grid cells, `size` m wide) centred `gap` m above the top of a
+// static sphere (radius m, icosphere with `subdivisions`) at the origin; gravity, collision and
+// friction on. The cloth's rest shape is written to *garment.
+FrameState cloth_above_sphere(int grid, double size, double radius, double gap, int subdivisions,
+                              TriMesh* garment);
+
 }  // namespace pb4u::test

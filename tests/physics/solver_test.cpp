@@ -61,15 +61,9 @@ TEST(ReferenceSolver, PinnedClothSettlesIntoADrapeBelowThePins) {
 
 TEST(ReferenceSolver, ClothDroppedOnASphereRestsOnItWithoutPenetratingDeeperThanEps) {
   const double radius = 0.25;
-  TriMesh sphere = test::icosphere(radius, 3, Eigen::RowVector3d::Zero());
-  TriMesh g = test::grid_mesh(6, 0.3);
-  g.V.col(0).array() -= 0.15;
-  g.V.col(2).array() -= 0.15;
-  g.V.col(1).array() += radius + 0.01;
+  TriMesh g;
+  FrameState state = test::cloth_above_sphere(6, 0.3, radius, 0.01, 3, &g);
   ClothGeometry cloth = make_cloth_geometry(g);
-  FrameState state = test::resting_state(test::positions_tensor(g.V));
-  state.effects.gravity = state.effects.collision = state.effects.friction = true;
-  state.body = test::static_body(sphere);
   PhysicsConfig config;
   TermList terms = build_terms(state.effects, config);
   for (int frame = 0; frame < 20; ++frame) step(state, cloth, terms, config);
