@@ -59,6 +59,22 @@ TEST(ReferenceSolver, PinnedClothSettlesIntoADrapeBelowThePins) {
   EXPECT_GT(lowest, -0.6) << "stretched far beyond its length";
 }
 
+TEST(ReferenceSolver, HonoursEffectsWithoutGravityARestingClothStaysPut) {
+  TriMesh g = test::grid_mesh(4, 0.5);
+  ClothGeometry cloth = make_cloth_geometry(g);
+  FrameState state = test::resting_state(test::positions_tensor(g.V));  // no effects at all
+  PhysicsConfig config;
+  TermList terms = build_terms(state.effects, config);
+  SolverResult r = solve_reference_step(state, cloth, terms, nullptr, config.solver);
+  EXPECT_TRUE(r.converged);
+  EXPECT_EQ(r.iterations, 0);
+  EXPECT_TRUE(torch::allclose(r.x_next, state.x, 0.0, 1e-12));
+  // The same cloth with gravity on does move (down).
+  state.effects.gravity = true;
+  r = solve_reference_step(state, cloth, build_terms(state.effects, config), nullptr, config.solver);
+  EXPECT_LT((r.x_next - state.x).select(1, 1).max().item<double>(), -1e-3);
+}
+
 TEST(ReferenceSolver, ClothDroppedOnASphereRestsOnItWithoutPenetratingDeeperThanEps) {
   const double radius = 0.25;
   TriMesh g;
