@@ -30,8 +30,11 @@ torch::Tensor to_index(const Eigen::VectorXi& idx, const torch::Device& device) 
 }
 
 void check_points(const torch::Tensor& t, const char* what) {
-  if (!t.defined() || t.dim() != 2 || t.size(1) != 3)
-    throw Error(std::string("body queries: ") + what + " must be (n, 3)");
+  if (!t.defined() || t.dim() != 2 || t.size(1) != 3 || !t.is_floating_point())
+    throw Error(std::string("body queries: ") + what + " must be (n, 3) floating point");
+  // A NaN would silently match an arbitrary KD-tree leaf.
+  if (!torch::isfinite(t).all().item<bool>())
+    throw Error(std::string("body queries: ") + what + " are not finite");
 }
 
 // Face centroids and (unit, where the face is not degenerate) normals of V (nb, 3) over F.

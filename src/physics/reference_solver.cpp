@@ -70,6 +70,8 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
                                   const ReferenceSolverConfig& config) {
   check_positions(state.x, cloth);
   check_positions(state.x_prev, cloth);
+  if (!torch::isfinite(state.x).all().item<bool>() || !torch::isfinite(state.x_prev).all().item<bool>())
+    throw Error("reference solver: the garment positions at t or t - dt are not finite");
   const auto opts = state.x.options();
   const int64_t n = cloth.num_vertices;
 

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 
 #include "pb4u/physics/body_queries.h"
 #include "pb4u/physics/collision_energy.h"
@@ -123,6 +124,19 @@ TEST(BodyQueries, NearestFaceVertexAndWorldEdgesMatchBruteForce) {
   torch::Tensor clear = radial.abs() > 0.05;
   EXPECT_TRUE(torch::equal((c.distance > 0).masked_select(clear), (radial > 0).masked_select(clear)));
   EXPECT_TRUE(torch::equal(c.in_contact, c.distance < 5e-3));
+}
+
+TEST(BodyQueries, RejectNonFiniteOrMisshapenInput) {
+  TriMesh body = test::icosphere(0.3, 1, Eigen::RowVector3d::Zero());
+  BodyFrame frame = test::static_body(body);
+  torch::Tensor x = torch::zeros({4, 3}, torch::kFloat64);
+  x[2][1] = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THROW(query_body_contact(x, frame, 5e-3, 1e-14), Error);
+  EXPECT_THROW(nearest_body_vertex(torch::zeros({4, 2}, torch::kFloat64), frame.vertices), Error);
+  BodyFrame bad = frame;
+  bad.faces = bad.faces.clone();
+  bad.faces[0][0] = 10000;
+  EXPECT_THROW(query_body_contact(torch::zeros({4, 3}, torch::kFloat64), bad, 5e-3, 1e-14), Error);
 }
 
 TEST(CollisionWeight, RampsFromStartToEnd) {
