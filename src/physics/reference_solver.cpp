@@ -197,4 +197,10 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
   return result;
 }
 
+SolverResult solve_reference_frame(const FrameState& state, const ClothGeometry& cloth,
+                                   const TermList& terms, const PhysicsConfig& config) {
+  std::optional<BodyContact> contact = body_contact_for(state, config);
+  return solve_reference_step(state, cloth, terms, contact ? &*contact : nullptr, config.solver);
+}
+
 }  // namespace pb4u

@@ -17,8 +17,7 @@ double kinetic_energy(const FrameState& s, const ClothGeometry& cloth) {
 // Advances `state` by one solved frame; returns the solve.
 SolverResult step(FrameState& state, const ClothGeometry& cloth, const TermList& terms,
                   const PhysicsConfig& config) {
-  auto contact = body_contact_for(state, config);
-  SolverResult r = solve_reference_step(state, cloth, terms, contact ? &*contact : nullptr, config.solver);
+  SolverResult r = solve_reference_frame(state, cloth, terms, config);
   state.x_prev = state.x;
   state.x = r.x_next;
   return r;

@@ -28,4 +28,9 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
                                   const TermList& terms, const BodyContact* contact,
                                   const ReferenceSolverConfig& config);
 
+// The same frame with the step's body contact computed from the state (none when its effects
+// need no body): what a rollout (`simulate --method reference`, `bench`) calls per frame.
+SolverResult solve_reference_frame(const FrameState& state, const ClothGeometry& cloth,
+                                   const TermList& terms, const PhysicsConfig& config);
+
 }  // namespace pb4u
