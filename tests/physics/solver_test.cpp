@@ -58,6 +58,59 @@ TEST(ReferenceSolver, PinnedClothSettlesIntoADrapeBelowThePins) {
   EXPECT_GT(lowest, -0.6) << "stretched far beyond its length";
 }
 
+TEST(ReferenceSolver, ExtremeTrainingMaterialsStayFiniteAndBounded) {
+  // The stiffest, lightest corner of the training ranges (SPEC 2), hanging from two pins.
+  const int n = 5;
+  TriMesh g = test::grid_mesh(n, 0.5);
+  ClothGeometry cloth = make_cloth_geometry(g);
+  for (double density : {0.0434, 0.7}) {
+    FrameState state = test::resting_state(test::positions_tensor(g.V));
+    state.material.density = density;
+    state.material.mu = 63636;
+    state.material.lambda = 93333.74;
+    state.material.bending = 1.3139738e-3;
+    state.effects.gravity = state.effects.pins = true;
+    state.pinned = torch::zeros({cloth.num_vertices}, torch::kBool);
+    state.pinned[0] = state.pinned[n] = true;
+    state.pin_targets = state.x.clone();
+    PhysicsConfig config;
+    config.solver.max_iterations = 50;  // a tight budget must still give a sane state
+    TermList terms = build_terms(state.effects, config);
+    for (int frame = 0; frame < 10; ++frame) step(state, cloth, terms, config);
+    EXPECT_TRUE(torch::isfinite(state.x).all().item<bool>()) << density;
+    // Bounded: nothing leaves the sphere of the cloth's size around the pins.
+    EXPECT_LT((state.x - state.pin_targets[0]).norm(2, 1).max().item<double>(), 1.0) << density;
+  }
+}
+
+TEST(ReferenceSolver, FrictionCarriesAClothOnAMovingFloor) {
+  TriMesh floor = test::grid_mesh(2, 4.0);
+  floor.V.col(0).array() -= 2.0;
+  floor.V.col(2).array() -= 2.0;
+  TriMesh g = test::grid_mesh(3, 0.2);
+  g.V.col(1).array() += 1.5e-3;  // resting inside the contact band
+  ClothGeometry cloth = make_cloth_geometry(g);
+  const double speed = 0.01;  // m per frame along x
+  const int frames = 10;
+  auto carried = [&](bool friction) {
+    FrameState state = test::resting_state(test::positions_tensor(g.V));
+    state.effects.gravity = state.effects.collision = true;
+    state.effects.friction = friction;
+    state.body = test::static_body(floor);
+    PhysicsConfig config;
+    TermList terms = build_terms(state.effects, config);
+    torch::Tensor shift = torch::tensor({speed, 0.0, 0.0}, torch::kFloat64);
+    for (int f = 0; f < frames; ++f) {
+      state.body.vertices = test::positions_tensor(floor.V) + f * shift;
+      state.body.next_vertices = state.body.vertices + shift;
+      step(state, cloth, terms, config);
+    }
+    return (state.x - test::positions_tensor(g.V)).select(1, 0).mean().item<double>();
+  };
+  EXPECT_GT(carried(true), 0.5 * speed * frames);
+  EXPECT_LT(std::abs(carried(false)), 0.05 * speed * frames);
+}
+
 TEST(ReferenceSolver, HonoursEffectsWithoutGravityARestingClothStaysPut) {
   TriMesh g = test::grid_mesh(4, 0.5);
   ClothGeometry cloth = make_cloth_geometry(g);
