@@ -1,6 +1,11 @@
 #include "pb4u/physics/bending_energy.h"
 
 namespace pb4u {
+namespace {
+// For a sound hinge the (sin, cos) pair is a unit vector; anything far below that means a
+// collapsed face or edge. Any threshold well inside (0, 1) separates the two cases.
+constexpr double kSoundHingeSquaredNorm = 0.5;
+}  // namespace
 
 torch::Tensor dihedral_angles(const torch::Tensor& x, const torch::Tensor& hinges,
                               double degenerate_area) {
@@ -18,9 +23,8 @@ torch::Tensor dihedral_angles(const torch::Tensor& x, const torch::Tensor& hinge
   auto e_hat = e / len.clamp_min(std::sqrt(degenerate_area));
   auto sin_t = (torch::cross(n0, n1, 1) * e_hat).sum(1);
   auto cos_t = (n0 * n1).sum(1);
-  // For a sound hinge (sin, cos) is a unit vector; near zero only when a face or the edge
-  // has collapsed, where atan2's gradient would be 0/0. Such hinges bend by 0.
-  auto sound = (sin_t * sin_t + cos_t * cos_t) > 0.5;
+  // Collapsed hinges bend by 0: atan2's gradient would be 0/0 there.
+  auto sound = (sin_t * sin_t + cos_t * cos_t) > kSoundHingeSquaredNorm;
   auto safe_sin = torch::where(sound, sin_t, torch::zeros_like(sin_t));
   auto safe_cos = torch::where(sound, cos_t, torch::ones_like(cos_t));
   return torch::atan2(safe_sin, safe_cos);

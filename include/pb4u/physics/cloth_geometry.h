@@ -4,6 +4,7 @@
 #include <torch/torch.h>
 
 #include "pb4u/mesh/triangle_mesh.h"
+#include "pb4u/physics/physics_config.h"
 
 namespace pb4u {
 
@@ -30,6 +31,7 @@ struct ClothGeometry {
 // Throws pb4u::Error on an empty mesh or face indices out of range.
 ClothGeometry make_cloth_geometry(const TriMesh& rest, torch::Dtype dtype = torch::kFloat64,
                                   torch::Device device = torch::kCPU,
-                                  bool with_rest_angles = false, double degenerate_area = 1e-14);
+                                  bool with_rest_angles = false,
+                                  double degenerate_area = PhysicsConfig{}.degenerate_area);
 
 }  // namespace pb4u
