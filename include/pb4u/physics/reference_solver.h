@@ -3,7 +3,8 @@
 // same energy as the network's loss. Each frame minimises the active terms' total energy
 // over x_{t+1} with L-BFGS and a backtracking (Armijo) line search, pinned vertices held at
 // their targets. L-BFGS starts each step from a fixed approximate Hessian (inertia + rest
-// membrane stiffness, quasi_newton_hessian.h) so stiff cloth converges in tens of iterations.
+// membrane stiffness, quasi_newton_hessian.h): on stiff cloth this cuts the energy gap after
+// 50 iterations 4-17x against a mass-only start (docs/physics.md).
 #include <torch/torch.h>
 
 #include "pb4u/physics/body_queries.h"
