@@ -4,7 +4,7 @@
 // over x_{t+1} with L-BFGS and a backtracking (Armijo) line search, pinned vertices held at
 // their targets. L-BFGS starts each step from a fixed approximate Hessian (inertia + rest
 // membrane stiffness, quasi_newton_hessian.h): on stiff cloth this cuts the energy gap after
-// 50 iterations 4-17x against a mass-only start (docs/physics.md).
+// 50 iterations 8-17x against a mass-only start (docs/physics.md).
 #include <torch/torch.h>
 
 #include "pb4u/physics/body_queries.h"
