@@ -1,0 +1,23 @@
+#pragma once
+// The fixed initial Hessian of the reference solver's quasi-Newton iteration (after Liu, Bouaziz
+// and Kavan 2017, "Quasi-Newton methods for real-time simulation of hyperelastic materials"):
+// the inertia Hessian plus the rest-state linear-elastic stiffness of the membrane. It is
+// constant over a frame, so it is factorised once and each L-BFGS step costs one sparse solve.
+#include <Eigen/Sparse>
+
+#include <vector>
+
+#include "pb4u/physics/cloth_geometry.h"
+#include "pb4u/physics/material.h"
+
+namespace pb4u {
+
+// H = M / dt^2 + sum_f A_f h (2 mu + lambda) G_f^T G_f, shared by x, y and z: G_f (2 x 3) holds
+// the gradients (1/m) of face f's linear shape functions at rest, M the lumped masses (kg),
+// dt in s, so H is in N/m. row_of_vertex (size n): the row of each vertex, -1 to leave it
+// out (pinned vertices); the result is k x k with k the number of kept vertices.
+Eigen::SparseMatrix<double> quasi_newton_hessian(const ClothGeometry& cloth,
+                                                 const Material& material, double dt,
+                                                 const std::vector<int>& row_of_vertex);
+
+}  // namespace pb4u

@@ -1,0 +1,45 @@
+#include "pb4u/physics/quasi_newton_hessian.h"
+
+namespace pb4u {
+
+Eigen::SparseMatrix<double> quasi_newton_hessian(const ClothGeometry& cloth,
+                                                 const Material& material, double dt,
+                                                 const std::vector<int>& row_of_vertex) {
+  torch::Tensor faces = cloth.faces.to(torch::kCPU).contiguous();
+  torch::Tensor dminv = cloth.dm_inverse.to(torch::kCPU, torch::kFloat64).contiguous();
+  torch::Tensor area = cloth.face_area.to(torch::kCPU, torch::kFloat64).contiguous();
+  torch::Tensor mass = cloth.vertex_masses(material.density).to(torch::kCPU, torch::kFloat64).contiguous();
+  auto F = faces.accessor<int64_t, 2>();
+  auto D = dminv.accessor<double, 3>();
+  auto A = area.accessor<double, 1>();
+  auto m = mass.accessor<double, 1>();
+  int k = 0;
+  for (int r : row_of_vertex) k = std::max(k, r + 1);
+
+  std::vector<Eigen::Triplet<double>> entries;
+  entries.reserve(static_cast<size_t>(faces.size(0)) * 9 + row_of_vertex.size());
+  for (size_t v = 0; v < row_of_vertex.size(); ++v)
+    if (row_of_vertex[v] >= 0) entries.emplace_back(row_of_vertex[v], row_of_vertex[v], m[v] / (dt * dt));
+  const double modulus = material.thickness * (2 * material.mu + material.lambda);
+  for (int64_t f = 0; f < faces.size(0); ++f) {
+    // F = Ds Dm^-1 = sum_i x_i grad_i^T: vertex 1 <-> row 0 of Dm^-1, vertex 2 <-> row 1,
+    // vertex 0 <-> minus their sum.
+    double g[3][2] = {{-D[f][0][0] - D[f][1][0], -D[f][0][1] - D[f][1][1]},
+                      {D[f][0][0], D[f][0][1]},
+                      {D[f][1][0], D[f][1][1]}};
+    for (int a = 0; a < 3; ++a) {
+      int ra = row_of_vertex[F[f][a]];
+      if (ra < 0) continue;
+      for (int b = 0; b < 3; ++b) {
+        int rb = row_of_vertex[F[f][b]];
+        if (rb < 0) continue;
+        entries.emplace_back(ra, rb, A[f] * modulus * (g[a][0] * g[b][0] + g[a][1] * g[b][1]));
+      }
+    }
+  }
+  Eigen::SparseMatrix<double> H(k, k);
+  H.setFromTriplets(entries.begin(), entries.end());
+  return H;
+}
+
+}  // namespace pb4u

@@ -1,0 +1,152 @@
+// The reference solver (SPEC 8) on two small scenes: a cloth hanging from two pins, and a
+// cloth dropped onto a sphere.
+#include <gtest/gtest.h>
+
+#include "pb4u/physics/energy_report.h"
+#include "pb4u/physics/reference_solver.h"
+#include "physics_test_util.h"
+#include "test_util.h"
+
+namespace pb4u {
+namespace {
+
+double kinetic_energy(const FrameState& s, const ClothGeometry& cloth) {
+  return 0.5 * (cloth.vertex_masses(s.material.density) * s.velocity().pow(2).sum(1)).sum().item<double>();
+}
+
+// Advances `state` by one solved frame; returns the solve.
+SolverResult step(FrameState& state, const ClothGeometry& cloth, const TermList& terms,
+                  const PhysicsConfig& config) {
+  SolverResult r = solve_reference_frame(state, cloth, terms, config);
+  state.x_prev = state.x;
+  state.x = r.x_next;
+  return r;
+}
+
+TEST(ReferenceSolver, PinnedClothSettlesIntoADrapeBelowThePins) {
+  const int n = 6;
+  TriMesh g = test::grid_mesh(n, 0.5);
+  ClothGeometry cloth = make_cloth_geometry(g);
+  FrameState state = test::resting_state(test::positions_tensor(g.V));
+  state.effects.gravity = state.effects.pins = true;
+  state.pinned = torch::zeros({cloth.num_vertices}, torch::kBool);
+  state.pinned[0] = true;
+  state.pinned[n] = true;  // the two corners of one side
+  state.pin_targets = state.x.clone();
+  PhysicsConfig config;
+  TermList terms = build_terms(state.effects, config);
+
+  std::vector<double> kinetic;
+  SolverResult last;
+  for (int frame = 0; frame < 60; ++frame) {
+    last = step(state, cloth, terms, config);
+    kinetic.push_back(kinetic_energy(state, cloth));
+  }
+  double peak = *std::max_element(kinetic.begin(), kinetic.end());
+  EXPECT_GT(peak, 0.0);
+  EXPECT_LT(kinetic.back(), 0.05 * peak) << "kinetic energy did not decay";
+  EXPECT_TRUE(last.converged) << "step " << last.step_norm << " m";
+  EXPECT_LE(last.step_norm, config.solver.step_tolerance);
+  // The drape is an energy minimum: the residual force is tiny next to a vertex's weight.
+  double weight = (cloth.vertex_masses(state.material.density).min() * 9.81).item<double>();
+  EXPECT_LT(last.gradient_norm, 1e-2 * weight);
+  // Pins held exactly; everything else hangs below them.
+  EXPECT_TRUE(torch::equal(state.x[0], state.pin_targets[0]));
+  EXPECT_TRUE(torch::equal(state.x[n], state.pin_targets[n]));
+  double lowest = state.x.select(1, 1).min().item<double>();
+  EXPECT_LT(lowest, -0.3) << "the cloth should hang about its length (0.5 m) below the pins";
+  EXPECT_GT(lowest, -0.6) << "stretched far beyond its length";
+}
+
+TEST(ReferenceSolver, ExtremeTrainingMaterialsStayFiniteAndBounded) {
+  // The stiffest, lightest corner of the training ranges (SPEC 2), hanging from two pins.
+  const int n = 5;
+  TriMesh g = test::grid_mesh(n, 0.5);
+  ClothGeometry cloth = make_cloth_geometry(g);
+  for (double density : {0.0434, 0.7}) {
+    FrameState state = test::resting_state(test::positions_tensor(g.V));
+    state.material.density = density;
+    state.material.mu = 63636;
+    state.material.lambda = 93333.74;
+    state.material.bending = 1.3139738e-3;
+    state.effects.gravity = state.effects.pins = true;
+    state.pinned = torch::zeros({cloth.num_vertices}, torch::kBool);
+    state.pinned[0] = state.pinned[n] = true;
+    state.pin_targets = state.x.clone();
+    PhysicsConfig config;
+    config.solver.max_iterations = 50;  // a tight budget must still give a sane state
+    TermList terms = build_terms(state.effects, config);
+    for (int frame = 0; frame < 10; ++frame) step(state, cloth, terms, config);
+    EXPECT_TRUE(torch::isfinite(state.x).all().item<bool>()) << density;
+    // Bounded: nothing leaves the sphere of the cloth's size around the pins.
+    EXPECT_LT((state.x - state.pin_targets[0]).norm(2, 1).max().item<double>(), 1.0) << density;
+  }
+}
+
+TEST(ReferenceSolver, FrictionCarriesAClothOnAMovingFloor) {
+  TriMesh floor = test::grid_mesh(2, 4.0);
+  floor.V.col(0).array() -= 2.0;
+  floor.V.col(2).array() -= 2.0;
+  TriMesh g = test::grid_mesh(3, 0.2);
+  g.V.col(1).array() += 1.5e-3;  // resting inside the contact band
+  ClothGeometry cloth = make_cloth_geometry(g);
+  const double speed = 0.01;  // m per frame along x
+  const int frames = 10;
+  auto carried = [&](bool friction) {
+    FrameState state = test::resting_state(test::positions_tensor(g.V));
+    state.effects.gravity = state.effects.collision = true;
+    state.effects.friction = friction;
+    state.body = test::static_body(floor);
+    PhysicsConfig config;
+    TermList terms = build_terms(state.effects, config);
+    torch::Tensor shift = torch::tensor({speed, 0.0, 0.0}, torch::kFloat64);
+    for (int f = 0; f < frames; ++f) {
+      state.body.vertices = test::positions_tensor(floor.V) + f * shift;
+      state.body.next_vertices = state.body.vertices + shift;
+      step(state, cloth, terms, config);
+    }
+    return (state.x - test::positions_tensor(g.V)).select(1, 0).mean().item<double>();
+  };
+  EXPECT_GT(carried(true), 0.5 * speed * frames);
+  EXPECT_LT(std::abs(carried(false)), 0.05 * speed * frames);
+}
+
+TEST(ReferenceSolver, HonoursEffectsWithoutGravityARestingClothStaysPut) {
+  TriMesh g = test::grid_mesh(4, 0.5);
+  ClothGeometry cloth = make_cloth_geometry(g);
+  FrameState state = test::resting_state(test::positions_tensor(g.V));  // no effects at all
+  PhysicsConfig config;
+  TermList terms = build_terms(state.effects, config);
+  SolverResult r = solve_reference_step(state, cloth, terms, nullptr, config.solver);
+  EXPECT_TRUE(r.converged);
+  EXPECT_EQ(r.iterations, 0);
+  EXPECT_TRUE(torch::allclose(r.x_next, state.x, 0.0, 1e-12));
+  // The same cloth with gravity on does move (down).
+  state.effects.gravity = true;
+  r = solve_reference_step(state, cloth, build_terms(state.effects, config), nullptr, config.solver);
+  EXPECT_LT((r.x_next - state.x).select(1, 1).max().item<double>(), -1e-3);
+}
+
+TEST(ReferenceSolver, ClothDroppedOnASphereRestsOnItWithoutPenetratingDeeperThanEps) {
+  const double radius = 0.25;
+  TriMesh g;
+  FrameState state = test::cloth_above_sphere(6, 0.3, radius, 0.01, 3, &g);
+  ClothGeometry cloth = make_cloth_geometry(g);
+  PhysicsConfig config;
+  TermList terms = build_terms(state.effects, config);
+  for (int frame = 0; frame < 20; ++frame) step(state, cloth, terms, config);
+
+  // Measured against the body's faces as the terms see them, at the final positions.
+  BodyContact c = query_body_contact(state.x, state.body, config.friction.contact_radius,
+                                     config.degenerate_area);
+  EXPECT_GT(c.distance.min().item<double>(), -config.collision.eps);
+  EXPECT_TRUE(c.in_contact.any().item<bool>()) << "the cloth should touch the sphere";
+  // Resting on top: the centre vertex is just above the sphere's pole, not fallen through.
+  double centre_y = state.x[24][1].item<double>();
+  EXPECT_GT(centre_y, radius - config.collision.eps);
+  EXPECT_LT(centre_y, radius + 0.01);
+  EXPECT_LT(kinetic_energy(state, cloth), 1e-3);
+}
+
+}  // namespace
+}  // namespace pb4u
