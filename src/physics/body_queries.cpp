@@ -108,19 +108,4 @@ torch::Tensor nearest_body_vertex(const torch::Tensor& x, const torch::Tensor& b
   return to_index(idx, x.device());
 }
 
-torch::Tensor world_edge_pairs(const torch::Tensor& x, const torch::Tensor& body_vertices,
-                               double radius) {
-  check_points(x, "garment positions");
-  check_points(body_vertices, "body vertices");
-  PointKdTree tree = make_body_tree(to_eigen(body_vertices));
-  auto pairs = tree.within_radius(to_eigen(x), radius);
-  torch::Tensor out = torch::empty({static_cast<int64_t>(pairs.size()), 2}, torch::kInt64);
-  auto a = out.accessor<int64_t, 2>();
-  for (size_t k = 0; k < pairs.size(); ++k) {
-    a[k][0] = pairs[k].first;
-    a[k][1] = pairs[k].second;
-  }
-  return out.to(x.device());
-}
-
 }  // namespace pb4u

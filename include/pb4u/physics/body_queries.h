@@ -35,11 +35,6 @@ std::optional<BodyContact> body_contact_for(const FrameState& state, const Physi
 torch::Tensor nearest_body_vertex(const torch::Tensor& x, const torch::Tensor& body_vertices,
                                   torch::Tensor* squared_distance = nullptr);
 
-// World edges (SPEC 4): all (garment vertex, body vertex) pairs closer than radius (m), as a
-// (k, 2) int64 tensor sorted by garment then body index.
-torch::Tensor world_edge_pairs(const torch::Tensor& x, const torch::Tensor& body_vertices,
-                               double radius);
-
 // How many body KD-trees this process has built: lets tests show a body-less scene builds none.
 int64_t body_kd_trees_built();
 
