@@ -109,7 +109,8 @@ Body build_mannequin(const std::string& name, const Skeleton& skeleton,
   ImplicitBody solid = humanoid_implicit(skeleton, joints, body.bind, config, &stature);
   const Grid grid = grid_around(solid.bounds(), config.cell_size, 2 * config.cell_size + solid.blend);
   TriMesh raw = largest_component(marching_tetrahedra(grid, sample_implicit(solid, grid)));
-  body.mesh = remesh_to_triangle_count(raw, 2 * config.vertices - 4);
+  const int triangles = 2 * config.vertices - 4;
+  body.mesh = remesh_to_triangle_count(remesh_source_for(raw, triangles), triangles);
   body.weights = capsule_skin_weights(body.mesh.V, solid, skeleton.num_joints(),
                                       config.weight_falloff * stature, config.max_influences);
   const double lift = -body.mesh.V.col(1).minCoeff();

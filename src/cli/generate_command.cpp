@@ -38,7 +38,7 @@ void add_generate_command(CLI::App& app, const GlobalOptions& global) {
     ensure_output_dir(opt->out);
     const auto start = std::chrono::steady_clock::now();
     const std::string base = std::filesystem::path(opt->config).parent_path().string();
-    Dataset data = generate_dataset(config, base);
+    Dataset data = generate_dataset(config, base, global.threads);
     write_dataset(target, data);
     save_config(config, (std::filesystem::path(opt->out) / "config.yaml").string());
     const double seconds =

@@ -3,6 +3,10 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <atomic>
+#include <exception>
+#include <mutex>
+#include <thread>
 #include <filesystem>
 #include <random>
 #include <set>
@@ -10,6 +14,7 @@
 #include "pb4u/body/bvh.h"
 #include "pb4u/garment/import_garment.h"
 #include "pb4u/garment/skin_weight_transfer.h"
+#include "pb4u/mesh/remesh.h"
 #include "pb4u/util/error.h"
 #include "pb4u/util/progress.h"
 
@@ -56,7 +61,8 @@ void validate_generate_config(const GenerateConfig& c, const std::string& where)
       throw Error(where + ": procedural.ranges: speed and amplitude must be [min, max] with 0 < min <= max");
 }
 
-Dataset generate_dataset(const GenerateConfig& c, const std::string& base_dir) {
+Dataset generate_dataset(const GenerateConfig& c, const std::string& base_dir, int workers) {
+  if (workers <= 0) workers = std::max(1u, std::thread::hardware_concurrency());
   Dataset data;
   data.level_triangles = c.levels.triangles;
   data.density = c.density;
@@ -75,29 +81,55 @@ Dataset generate_dataset(const GenerateConfig& c, const std::string& base_dir) {
     rec.body = build_mannequin(spec.name, skeleton, c.mannequin);
     progress.step(1, "body " + spec.name);
     spdlog::debug("body {}: {} vertices", spec.name, rec.body.mesh.num_vertices());
-    for (const std::string& name : c.templates) {
-      const TriMesh surface = garment_template_surface(name, rec.body, c.mannequin, c.garments);
-      GarmentLevels gl;
-      gl.name = name;
-      for (int k = 0; k < L; ++k) {
-        gl.levels.push_back(make_garment(name, surface, rec.body, c.levels.triangles[k]));
-        progress.step(1, spec.name + "/" + name + " level " + std::to_string(k + 1));
+    // Garments are independent: one job each, spread over `workers` threads.
+    const int jobs = static_cast<int>(c.templates.size() + c.garment_files.size());
+    rec.garments.resize(jobs);
+    std::vector<std::exception_ptr> errors(jobs);
+    std::atomic<int> next{0};
+    std::mutex progress_mutex;
+    auto run_job = [&](int job) {
+      GarmentLevels& gl = rec.garments[job];
+      const bool is_template = job < static_cast<int>(c.templates.size());
+      TriMesh surface;
+      std::string file;
+      if (is_template) {
+        gl.name = c.templates[job];
+        surface = remesh_source_for(
+            garment_template_surface(gl.name, rec.body, c.mannequin, c.garments),
+            *std::max_element(c.levels.triangles.begin(), c.levels.triangles.end()));
+      } else {
+        file = resolve(c.garment_files[job - c.templates.size()], base_dir);
+        gl.name = fs::path(file).stem().string();
       }
-      rec.garments.push_back(std::move(gl));
-    }
-    for (const std::string& file : c.garment_files) {
-      GarmentLevels gl;
-      gl.name = fs::path(file).stem().string();
       for (int k = 0; k < L; ++k) {
         Garment g;
-        g.name = gl.name;
-        g.mesh = import_garment(resolve(file, base_dir), c.levels.triangles[k]);
-        g.weights = transfer_skin_weights(g.mesh.V, rec.body);
+        if (is_template) {
+          g = make_garment(gl.name, surface, rec.body, c.levels.triangles[k]);
+        } else {
+          g.name = gl.name;
+          g.mesh = import_garment(file, c.levels.triangles[k]);
+          g.weights = transfer_skin_weights(g.mesh.V, rec.body);
+        }
         gl.levels.push_back(std::move(g));
+        std::lock_guard<std::mutex> lock(progress_mutex);
         progress.step(1, spec.name + "/" + gl.name + " level " + std::to_string(k + 1));
       }
-      rec.garments.push_back(std::move(gl));
-    }
+    };
+    auto worker = [&] {
+      for (int job; (job = next++) < jobs;) {
+        try {
+          run_job(job);
+        } catch (...) {
+          errors[job] = std::current_exception();
+        }
+      }
+    };
+    std::vector<std::thread> pool;
+    for (int t = 1; t < std::min(workers, jobs); ++t) pool.emplace_back(worker);
+    worker();
+    for (auto& t : pool) t.join();
+    for (auto& e : errors)
+      if (e) std::rethrow_exception(e);
     data.bodies.push_back(std::move(rec));
   }
 

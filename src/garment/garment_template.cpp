@@ -91,7 +91,7 @@ TriMesh garment_template_surface(const std::string& name, const Body& body,
       for (int j = 0; j < grid.ny; ++j)
         for (int k = 0; k < grid.nz; ++k) {
           const Eigen::Index n = (Eigen::Index(i) * grid.ny + j) * grid.nz + k;
-          values[n] = std::min(values[n], cone_field(grid.node(i, j, k)));
+          values[n] = smooth_min(values[n], cone_field(grid.node(i, j, k)), config.cone_blend);
         }
   }
   TriMesh mesh = marching_tetrahedra(grid, values);
@@ -102,7 +102,8 @@ TriMesh garment_template_surface(const std::string& name, const Body& body,
   } else {
     const Eigen::Vector3d neck = at(h.chest());
     const double neck_y = chest_y + config.neck_cut_height * torso;
-    const double hole = config.neck_hole_radius * H;
+    const bool scoop = name == "tank_top" || dress;
+    const double hole = (scoop ? config.scoop_neck_hole_radius : config.neck_hole_radius) * H;
     mesh = clip_with(mesh, [&](const Eigen::Vector3d& p) {
       const double radial = std::hypot(p.x() - neck.x(), p.z() - neck.z());
       return std::max(neck_y - p.y(), radial - hole);

@@ -112,7 +112,7 @@ TriMesh remesh_to_triangle_count(const TriMesh& mesh, int target_triangles, doub
   double best_error = 1e300;
   double lo = 0, hi = 1e300;  // lengths known to give too many / too few triangles
   for (int attempt = 0; attempt < max_attempts; ++attempt) {
-    TriMesh out = from_cgal(remesh_copy(input, length, 5));
+    TriMesh out = from_cgal(remesh_copy(input, length, 3));
     const double ratio = static_cast<double>(out.num_faces()) / target_triangles;
     const double error = std::abs(ratio - 1.0);
     if (std::getenv("PB4U_DEBUG_REMESH"))
@@ -125,6 +125,13 @@ TriMesh remesh_to_triangle_count(const TriMesh& mesh, int target_triangles, doub
     if (length <= lo || length >= hi) length = hi < 1e300 && lo > 0 ? std::sqrt(lo * hi) : length;
   }
   return best;
+}
+
+TriMesh remesh_source_for(const TriMesh& mesh, int max_target_triangles) {
+  const int source_triangles = 4 * max_target_triangles;
+  if (mesh.num_faces() <= 2 * source_triangles) return mesh;
+  const double area = face_areas(mesh.V, mesh.F).sum();
+  return remesh_isotropic(mesh, edge_length_for_triangles(area, source_triangles), 2);
 }
 
 }  // namespace pb4u

@@ -84,11 +84,11 @@ TEST(Mannequin, WeightsAreSmoothAcrossEdges) {
   // per metre (a seam would jump by up to 1 over one edge, ~30 / m here).
   const double falloff = small_config().weight_falloff * 1.7;
   EXPECT_LT(worst, 1.0 / falloff);
-  // A walking pose moves the body without tearing it: edge lengths stay within 2x.
+  // A walking pose moves the body without tearing it: edge lengths stay within 3x.
   const Motion walk = procedural_motion(body.skeleton, body.bind, MotionParams{});
   const Eigen::MatrixXd Vp = pose_body(body, walk.frames[10]);
   const Eigen::VectorXd l0 = edge_lengths(body.mesh.V, E), l1 = edge_lengths(Vp, E);
-  EXPECT_LT((l1.array() / l0.array()).maxCoeff(), 2.0);
+  EXPECT_LT((l1.array() / l0.array()).maxCoeff(), 3.0);
 }
 
 TEST(Mannequin, BvhSkeletonDrivesItsOwnMannequin) {

@@ -68,8 +68,11 @@ TEST(LbsFrame, BindPoseFramesAreRestAndMotionGivesVelocity) {
   const LbsFrame f = lbs_frame(rec.body, g, still, 1, 0.006);
   EXPECT_LT((f.body - rec.body.mesh.V).cwiseAbs().maxCoeff(), 1e-12);
   EXPECT_LT((f.garment - f.garment_prev).cwiseAbs().maxCoeff(), 1e-12);  // zero velocity
-  // The template already clears the body, so the pre-solve barely moves it.
-  EXPECT_LT((f.garment - g.mesh.V).rowwise().norm().maxCoeff(), 0.006);
+  // The template already clears the body: the pre-solve only corrects the coarse body's
+  // chords, moving few vertices by less than 1.5 gaps.
+  const Eigen::VectorXd moved = (f.garment - g.mesh.V).rowwise().norm();
+  EXPECT_LT(moved.maxCoeff(), 1.5 * 0.006);
+  EXPECT_LT((moved.array() > 1e-9).count(), g.mesh.num_vertices() / 5);
   const MotionRecord& walk = d.motions[0];
   const LbsFrame w = lbs_frame(rec.body, g, walk.motion, 5, 0.006);
   EXPECT_GT((w.garment - w.garment_prev).rowwise().norm().maxCoeff(), 1e-3);
@@ -92,7 +95,9 @@ TEST(Dataset, RoundTripKeepsEverything) {
   EXPECT_EQ(a.skeleton.parents, b.skeleton.parents);
   ASSERT_EQ(r.bodies[0].garments.size(), 2u);
   EXPECT_EQ(r.bodies[0].garments[1].levels.size(), 3u);
-  EXPECT_EQ(r.bodies[0].garments[1].levels[2].mesh.F, d.bodies[0].garments[1].levels[2].mesh.F);
+  // Groups come back in name order: skirt before tshirt.
+  EXPECT_EQ(r.bodies[0].garments[0].name, "skirt");
+  EXPECT_EQ(r.bodies[0].garments[0].levels[2].mesh.F, d.bodies[0].garments[1].levels[2].mesh.F);
   ASSERT_EQ(r.motions.size(), d.motions.size());
   int tests = 0;
   for (size_t i = 0; i < r.motions.size(); ++i) {

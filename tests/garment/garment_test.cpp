@@ -48,7 +48,8 @@ const Fixture& fixture() {
   return f;
 }
 
-const std::vector<int> kLevels = {400, 660, 900};
+// The CPU scale's first three levels.
+const std::vector<int> kLevels = {2000, 3300, 4500};
 
 }  // namespace
 
@@ -88,8 +89,10 @@ TEST(GarmentTemplates, LevelsHitTheirCountsKeepTheShapeAndScaleEdges) {
     EXPECT_EQ(loops, name == "skirt" ? 2 : 4) << name;  // waist + hem; or neck, hem, two arms
     for (size_t k = 1; k < levels.size(); ++k) {
       EXPECT_EQ(static_cast<int>(boundary_loops(levels[k].F).size()), loops) << name;
-      // Same shape: coarse levels are chords of the same surface, a few mm apart.
-      EXPECT_LT(test::hausdorff_distance(levels[0], levels[k]), 0.012) << name;
+      // Same shape: levels sample one surface and differ only by the coarse level's chord
+      // error, worst on thin tubes (cuffs) and cut borders: under 1 cm at these levels
+      // (2-4 mm for the tops; a fifth to a third of the coarse edge length).
+      EXPECT_LT(test::hausdorff_distance(levels[0], levels[k]), 0.01) << name;
       // Mean edge length scales as 1 / sqrt(triangles).
       const double ratio = mean_edge_length(levels[k].V, levels[k].F) / mean_edge_length(levels[0].V, levels[0].F);
       const double expect = std::sqrt(double(levels[0].num_faces()) / levels[k].num_faces());

@@ -92,7 +92,9 @@ struct GenerateConfig {
 void validate_generate_config(const GenerateConfig& config, const std::string& where);
 
 // Builds everything the config asks for. Relative paths are tried against the working
-// directory, then against `base_dir` (the config file's directory).
-Dataset generate_dataset(const GenerateConfig& config, const std::string& base_dir = "");
+// directory, then against `base_dir` (the config file's directory). Garments are built on
+// `workers` threads (0 = one per core); the result does not depend on the count.
+Dataset generate_dataset(const GenerateConfig& config, const std::string& base_dir = "",
+                         int workers = 0);
 
 }  // namespace pb4u
