@@ -12,6 +12,7 @@
 #include <set>
 
 #include "pb4u/body/bvh.h"
+#include "pb4u/body/skinned_mesh_import.h"
 #include "pb4u/garment/import_garment.h"
 #include "pb4u/garment/skin_weight_transfer.h"
 #include "pb4u/mesh/remesh.h"
@@ -67,29 +68,46 @@ Dataset generate_dataset(const GenerateConfig& c, const std::string& base_dir, i
   data.level_triangles = c.levels.triangles;
   data.density = c.density;
   const int L = static_cast<int>(c.levels.triangles.size());
-  const int garments_per_body = static_cast<int>(c.templates.size() + c.garment_files.size());
-  const int motions = static_cast<int>(c.procedural.kinds.size()) * c.procedural.per_kind +
-                      static_cast<int>(c.bvh.files.size());
-  Progress progress("generate", static_cast<int64_t>(c.bodies.size()) * (1 + garments_per_body * L) + motions,
-                    "items");
+  int64_t items = static_cast<int64_t>(c.procedural.kinds.size()) * c.procedural.per_kind +
+                  static_cast<int64_t>(c.bvh.files.size());
+  for (const BodySpec& spec : c.bodies)
+    items += 1 + static_cast<int64_t>((spec.mesh.empty() ? c.templates.size() : 0) + c.garment_files.size()) * L;
+  Progress progress("generate", items, "items");
 
+  std::vector<MotionRecord> file_motions;  // animations of skinned mesh bodies
   for (const BodySpec& spec : c.bodies) {
-    Skeleton skeleton = spec.skeleton == "builtin"
-                            ? builtin_skeleton()
-                            : read_bvh(resolve(spec.skeleton, base_dir), 0.0, c.bvh.scale).skeleton;
     BodyRecord rec;
-    rec.body = build_mannequin(spec.name, skeleton, c.mannequin);
+    const bool mannequin = spec.mesh.empty();
+    if (mannequin) {
+      Skeleton skeleton = spec.skeleton == "builtin"
+                              ? builtin_skeleton()
+                              : read_bvh(resolve(spec.skeleton, base_dir), 0.0, c.bvh.scale).skeleton;
+      rec.body = build_mannequin(spec.name, skeleton, c.mannequin);
+    } else {
+      SkinnedMeshFile file = read_skinned_mesh(resolve(spec.mesh, base_dir), c.fps);
+      rec.body = std::move(file.body);
+      rec.body.name = spec.name;
+      for (size_t a = 0; a < file.motions.size(); ++a) {
+        MotionRecord m;
+        m.name = spec.name + "_" + file.animation_names[a];
+        m.body = spec.name;
+        m.source = spec.mesh;
+        m.motion = std::move(file.motions[a]);
+        file_motions.push_back(std::move(m));
+      }
+    }
     progress.step(1, "body " + spec.name);
     spdlog::debug("body {}: {} vertices", spec.name, rec.body.mesh.num_vertices());
     // Garments are independent: one job each, spread over `workers` threads.
-    const int jobs = static_cast<int>(c.templates.size() + c.garment_files.size());
+    const int templates = mannequin ? static_cast<int>(c.templates.size()) : 0;
+    const int jobs = templates + static_cast<int>(c.garment_files.size());
     rec.garments.resize(jobs);
     std::vector<std::exception_ptr> errors(jobs);
     std::atomic<int> next{0};
     std::mutex progress_mutex;
     auto run_job = [&](int job) {
       GarmentLevels& gl = rec.garments[job];
-      const bool is_template = job < static_cast<int>(c.templates.size());
+      const bool is_template = job < templates;
       TriMesh surface;
       std::string file;
       if (is_template) {
@@ -98,7 +116,7 @@ Dataset generate_dataset(const GenerateConfig& c, const std::string& base_dir, i
             garment_template_surface(gl.name, rec.body, c.mannequin, c.garments),
             *std::max_element(c.levels.triangles.begin(), c.levels.triangles.end()));
       } else {
-        file = resolve(c.garment_files[job - c.templates.size()], base_dir);
+        file = resolve(c.garment_files[job - templates], base_dir);
         gl.name = fs::path(file).stem().string();
       }
       for (int k = 0; k < L; ++k) {
@@ -133,6 +151,7 @@ Dataset generate_dataset(const GenerateConfig& c, const std::string& base_dir, i
     data.bodies.push_back(std::move(rec));
   }
 
+  for (auto& m : file_motions) data.motions.push_back(std::move(m));
   std::mt19937 rng(static_cast<unsigned>(c.seed));
   if (c.procedural.per_kind > 0) {
     const BodyRecord* body = data.find_body(c.procedural.body);

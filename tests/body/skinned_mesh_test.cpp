@@ -6,6 +6,7 @@
 
 #include "pb4u/body/skinned_mesh_import.h"
 #include "pb4u/util/error.h"
+#include "strip_gltf.h"
 #include "test_util.h"
 
 using namespace pb4u;
@@ -36,11 +37,13 @@ void append(std::vector<unsigned char>& buf, std::initializer_list<T> values) {
   }
 }
 
+}  // namespace
+
 // A 0.2 x 2 m strip along +y: rows at y = 0 (Root), 1 (half and half), 2 (Bone). Bone sits
 // at y = 1 and its default node rotation is a quarter turn about z, different from the bind
 // pose its inverse bind matrix encodes. Animation "bend": Bone 0 -> 90 deg about z and
 // Root translated 0 -> 2 m along z over 1 s.
-std::string strip_gltf() {
+std::string test::strip_gltf() {
   std::vector<unsigned char> b;
   append<float>(b, {-0.1f, 0, 0, 0.1f, 0, 0, -0.1f, 1, 0, 0.1f, 1, 0, -0.1f, 2, 0, 0.1f, 2, 0});  // 0: 72
   append<uint16_t>(b, {0, 1, 3, 0, 3, 2, 2, 3, 5, 2, 5, 4});                                     // 72: 24
@@ -77,6 +80,8 @@ std::string strip_gltf() {
                {"bufferView":7,"componentType":5126,"count":2,"type":"VEC3"}]})";
 }
 
+namespace {
+
 int find_vertex(const Eigen::MatrixXd& V, const Eigen::RowVector3d& p) {
   Eigen::Index i;
   (V.rowwise() - p).rowwise().norm().minCoeff(&i);
@@ -87,7 +92,7 @@ int find_vertex(const Eigen::MatrixXd& V, const Eigen::RowVector3d& p) {
 
 TEST(SkinnedMesh, GltfSkeletonBindPoseAndAnimationFollowTheFile) {
   const std::string path = test::temp_dir("skin") + "/strip.gltf";
-  test::write_file(path, strip_gltf());
+  test::write_file(path, test::strip_gltf());
   const SkinnedMeshFile file = read_skinned_mesh(path, 30.0);
   const Body& body = file.body;
   ASSERT_EQ(body.skeleton.num_joints(), 2);

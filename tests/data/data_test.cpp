@@ -8,6 +8,7 @@
 #include "pb4u/data/generate.h"
 #include "pb4u/data/lbs_frame.h"
 #include "pb4u/util/error.h"
+#include "../body/strip_gltf.h"
 #include "test_util.h"
 
 using namespace pb4u;
@@ -166,4 +167,24 @@ TEST(GenerateCommand, WritesDatasetAndConfigAndRefusesToOverwrite) {
   r = test::run_pb4u("generate --config " + dir + "/bad.yaml --out " + out + "2");
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.err.find("levels.triangles[1]"), std::string::npos) << r.err;
+}
+
+TEST(Generate, SkinnedMeshBodiesBringTheirAnimations) {
+  const std::string path = test::temp_dir("skinbody") + "/strip.gltf";
+  test::write_file(path, test::strip_gltf());
+  GenerateConfig c;
+  c.levels.triangles = {100};
+  BodySpec spec;
+  spec.name = "strip";
+  spec.mesh = path;
+  c.bodies = {spec};
+  c.procedural.per_kind = 0;
+  validate_generate_config(c, "test");
+  const Dataset d = generate_dataset(c);
+  ASSERT_EQ(d.bodies.size(), 1u);
+  EXPECT_TRUE(d.bodies[0].garments.empty());  // templates need a mannequin
+  ASSERT_EQ(d.motions.size(), 1u);
+  EXPECT_EQ(d.motions[0].name, "strip_bend");
+  EXPECT_EQ(d.motions[0].motion.num_frames(), 31);
+  EXPECT_EQ(d.motions[0].split, "train");
 }

@@ -12,14 +12,20 @@
 
 namespace pb4u {
 
+// A mannequin built from a skeleton, or (with `mesh`) a skinned mesh file used as it is,
+// whose animations join the motions as "<name>_<animation>". Garment templates are fitted
+// around mannequins only (they need the mannequin's implicit surface); garment_files fit
+// any body.
 struct BodySpec {
   std::string name = "mannequin";
   std::string skeleton = "builtin";  // "builtin" or a BVH file whose rest skeleton is used
+  std::string mesh;                  // skinned glTF/GLB/FBX/DAE; overrides `skeleton`
 
   template <class V>
   void visit(V& v) {
     v("name", name);
     v("skeleton", skeleton);
+    v("mesh", mesh);
   }
 };
 
