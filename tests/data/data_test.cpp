@@ -188,3 +188,26 @@ TEST(Generate, SkinnedMeshBodiesBringTheirAnimations) {
   EXPECT_EQ(d.motions[0].motion.num_frames(), 31);
   EXPECT_EQ(d.motions[0].split, "train");
 }
+
+TEST(Generate, BvhMotionsNeedABodyBuiltFromTheirSkeleton) {
+  GenerateConfig c = tiny_config();
+  c.templates.clear();
+  c.procedural.per_kind = 0;
+  const std::string bvh = std::string(PB4U_SHARED_DATA) + "/mocap/cmu_131_01.bvh";
+  c.bodies = {BodySpec{"cmu", bvh, ""}};
+  c.bvh.body = "cmu";
+  c.bvh.files = {bvh};
+  c.bvh.max_frames = 20;
+  Dataset d = generate_dataset(c);
+  ASSERT_EQ(d.motions.size(), 1u);
+  EXPECT_EQ(d.motions[0].motion.num_frames(), 20);
+  EXPECT_DOUBLE_EQ(d.motions[0].motion.fps, 30.0);
+  // The same file on the built-in mannequin: a clear error, not a silent retarget.
+  c.bodies = {BodySpec{"cmu", "builtin", ""}};
+  try {
+    generate_dataset(c);
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("joints differ"), std::string::npos) << e.what();
+  }
+}
