@@ -69,10 +69,10 @@ ImplicitBody humanoid_implicit(const Skeleton& s, const HumanoidJoints& h, const
         p.hand_radius, h.wrist[k]);
     add(at(h.thigh[k]), at(h.knee[k]), p.thigh_radius, p.knee_radius, h.thigh[k]);
     add(at(h.knee[k]), at(h.ankle[k]), p.knee_radius, p.ankle_radius, h.knee[k]);
-    // Feet point along +z whatever the skeleton's toe joint says, so every body faces +z.
+    // Feet reach forward (+z) at least foot_length, whatever the skeleton's toe joint says.
     const Eigen::Vector3d ankle = at(h.ankle[k]);
     Eigen::Vector3d toe = h.toe[k] >= 0 ? at(h.toe[k]) : ankle;
-    toe.z() = std::max(toe.z(), ankle.z() + 0.06 * H);
+    toe.z() = std::max(toe.z(), ankle.z() + p.foot_length * H);
     add(ankle, toe, p.foot_radius, p.foot_radius, h.ankle[k]);
     add(toe, toe + Eigen::Vector3d(0, 0, p.toe_length * H), p.toe_radius, p.toe_radius,
         h.toe[k] >= 0 ? h.toe[k] : h.ankle[k]);

@@ -24,7 +24,7 @@ struct MannequinProportions {
   double upper_arm_radius = 0.026, elbow_radius = 0.021, wrist_radius = 0.016;
   double hand_length = 0.1, hand_radius = 0.014;
   double thigh_radius = 0.05, knee_radius = 0.032, ankle_radius = 0.021;
-  double foot_radius = 0.02, toe_length = 0.035, toe_radius = 0.015;
+  double foot_radius = 0.02, foot_length = 0.06, toe_length = 0.035, toe_radius = 0.015;
 
   template <class V>
   void visit(V& v) {
@@ -40,6 +40,7 @@ struct MannequinProportions {
              {"hand_length", &hand_length}, {"hand_radius", &hand_radius},
              {"thigh_radius", &thigh_radius}, {"knee_radius", &knee_radius},
              {"ankle_radius", &ankle_radius}, {"foot_radius", &foot_radius},
+             {"foot_length", &foot_length},
              {"toe_length", &toe_length}, {"toe_radius", &toe_radius}})
       v(key, *field, in_range(0.0, 0.5));
   }
