@@ -211,3 +211,16 @@ TEST(Generate, BvhMotionsNeedABodyBuiltFromTheirSkeleton) {
     EXPECT_NE(std::string(e.what()).find("joints differ"), std::string::npos) << e.what();
   }
 }
+
+TEST(Generate, ResultDoesNotDependOnTheWorkerCount) {
+  const Dataset one = generate_dataset(tiny_config(), "", 1);
+  const Dataset& two = tiny_dataset();  // built with one worker per core
+  ASSERT_EQ(one.bodies[0].garments.size(), two.bodies[0].garments.size());
+  for (size_t g = 0; g < one.bodies[0].garments.size(); ++g) {
+    const TriMesh& a = one.bodies[0].garments[g].levels[0].mesh;
+    const TriMesh& b = two.bodies[0].garments[g].levels[0].mesh;
+    EXPECT_EQ(a.F, b.F);
+    EXPECT_EQ(a.V, b.V);
+  }
+  for (size_t m = 0; m < one.motions.size(); ++m) EXPECT_EQ(one.motions[m].split, two.motions[m].split);
+}
