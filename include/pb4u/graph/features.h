@@ -1,0 +1,35 @@
+#pragma once
+// Feature building blocks of SPEC 4: what goes into the network, one function per feature
+// group. Positions are float tensors in metres; directions "receiver - sender".
+#include <torch/torch.h>
+
+#include <array>
+#include <string>
+
+#include "pb4u/graph/garment_topology.h"
+#include "pb4u/physics/material.h"
+
+namespace pb4u {
+
+// (n, 3) unit area-weighted vertex normals of positions x (n, 3) with faces (m, 3) int64;
+// zero for isolated or fully degenerate vertices.
+torch::Tensor vertex_normals(const torch::Tensor& x, const torch::Tensor& faces);
+
+// Material as 4 numbers in [0, 1] over `ranges`: density and lambda linear, mu and bending on
+// a log scale. Values outside a range extrapolate linearly. Throws pb4u::Error naming
+// `where`.<key> when a range is not an increasing pair (positive for the log ones).
+std::array<double, 4> normalised_material(const Material& material, const MaterialRanges& ranges,
+                                          const std::string& where = "model.material_ranges");
+
+// (2E, 7) relative mesh-edge features at current positions x (n, 3): current unit direction
+// (3), rest unit direction (3), current / rest length (1). No absolute lengths, so a uniform
+// scaling of the garment leaves them unchanged.
+torch::Tensor mesh_edge_features(const torch::Tensor& x, const GarmentTopology& topology);
+
+// (Ew, 8) world-edge features from node positions p (nodes, 3) at time t and q (nodes, 3) the
+// positions expected at t + dt (body: its next pose; garment: x + v dt): p_r - p_s, |p_r - p_s|,
+// q_r - q_s, |q_r - q_s| (m).
+torch::Tensor world_edge_features(const torch::Tensor& p, const torch::Tensor& q,
+                                  const torch::Tensor& senders, const torch::Tensor& receivers);
+
+}  // namespace pb4u

@@ -1,0 +1,31 @@
+#pragma once
+// What the graph needs from a garment's rest mesh, computed once per garment and reused every
+// frame: the directed mesh edges and their rest geometry, lumped vertex areas (masses follow
+// from the material's density) and the rest edge lengths behind K and the update scaling.
+#include <torch/torch.h>
+
+#include <string>
+
+#include "pb4u/mesh/triangle_mesh.h"
+
+namespace pb4u {
+
+struct GarmentTopology {
+  torch::Tensor faces;                    // (m, 3) int64
+  torch::Tensor senders, receivers;       // (2E) int64: each unique edge in both directions
+  torch::Tensor rest_direction;           // (2E, 3) float, unit (X_receiver - X_sender)
+  torch::Tensor rest_length;              // (2E) float, m
+  torch::Tensor vertex_area;              // (n) float, m^2: each face gives area / 3
+  torch::Tensor vertex_mean_edge_length;  // (n) float, m: mean rest length of incident edges
+  double mean_edge_length = 0;            // m: Lbar, mean rest length of the unique edges
+  int64_t num_vertices = 0;
+
+  int64_t num_mesh_edges() const { return senders.size(0); }
+};
+
+// Builds the topology of `rest` (n x 3 m, m x 3 faces). Throws pb4u::Error naming `where` for a
+// mesh without faces, out-of-range indices or zero-length edges (relative features divide by
+// rest lengths).
+GarmentTopology build_garment_topology(const TriMesh& rest, const std::string& where = "garment");
+
+}  // namespace pb4u

@@ -1,0 +1,29 @@
+#pragma once
+// The network's input: one garment's graph at one frame (raw, unnormalised features).
+// Nodes are the garment vertices (first num_garment_nodes rows) followed by the body vertices
+// that world edges touch. Mesh-edge index tensors are the cached topology's, shared, not copied.
+#include <torch/torch.h>
+
+namespace pb4u {
+
+// Feature widths (layout in docs/model.md and graph/features.h).
+constexpr int64_t kVertexFeatureDim = 21;
+constexpr int64_t kMeshEdgeFeatureDim = 7;
+constexpr int64_t kWorldEdgeFeatureDim = 8;
+
+struct GraphBatch {
+  torch::Tensor node_features;                   // (nodes, 21) float
+  int64_t num_garment_nodes = 0;
+  torch::Tensor mesh_senders, mesh_receivers;    // (Em) int64, garment node ids
+  torch::Tensor mesh_features;                   // (Em, 7) float
+  torch::Tensor world_senders, world_receivers;  // (Ew) int64, Ew may be 0
+  torch::Tensor world_features;                  // (Ew, 8) float
+  torch::Tensor body_vertex_index;               // (nodes - n) int64: body vertex of each body node
+  torch::Tensor vertex_mean_edge_length;         // (n) float, m: numerator of the update scaling
+  double mean_edge_length = 0;                   // m: the garment's Lbar, which sets K
+
+  int64_t num_nodes() const { return node_features.size(0); }
+  int64_t num_world_edges() const { return world_senders.defined() ? world_senders.size(0) : 0; }
+};
+
+}  // namespace pb4u

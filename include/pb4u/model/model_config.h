@@ -1,0 +1,56 @@
+#pragma once
+// The `model` config section: architecture, baselines/ablations and graph construction
+// (SPEC 4). Everything that changes what the network computes lives here, so a checkpoint's
+// config alone rebuilds the same network.
+#include <string>
+#include <vector>
+
+#include "pb4u/config/config_io.h"
+#include "pb4u/physics/material.h"
+
+namespace pb4u {
+
+struct ModelConfig {
+  std::string kind = "pb4u";               // pb4u | mgn (no propagation: the paper's MGN)
+  std::string propagation_control = "on";  // on: K = max(1, floor(D / Lbar)); off: K = K_base
+  std::string update_scaling = "on";       // on: a = s (.) a~; off: s = 1
+  int latent = 128;                        // width of every latent vector and hidden layer
+  int mlp_hidden_layers = 2;               // hidden layers per MLP
+  int num_blocks = 15;                     // N MeshGraphNet blocks in the update stack
+  int k_base = 4;                          // propagation steps at the calibration resolution
+  double gamma = 0.9;                      // decay of the propagation residual
+  double world_edge_radius = 0.03;         // m, garment<->body world edges
+  int normalizer_warmup = 1000;            // training forward calls that feed the normalisers
+  double normalizer_epsilon = 1e-8;        // floor of a feature's standard deviation
+  // Training samples K uniformly from [lo * K_base, hi * K_base] (integers).
+  std::vector<double> train_k_range{0.0, 2.0};
+  // Material inputs are normalised to [0, 1] with these ranges (log scale for mu, bending).
+  MaterialRanges material_ranges;
+
+  bool is_pb4u() const { return kind == "pb4u"; }
+  bool propagation_control_on() const { return propagation_control == "on"; }
+  bool update_scaling_on() const { return update_scaling == "on"; }
+
+  template <class V>
+  void visit(V& v) {
+    v("kind", kind, one_of({"pb4u", "mgn"}));
+    v("propagation_control", propagation_control, one_of({"on", "off"}));
+    v("update_scaling", update_scaling, one_of({"on", "off"}));
+    v("latent", latent, int_at_least(1));
+    v("mlp_hidden_layers", mlp_hidden_layers, int_at_least(1));
+    v("num_blocks", num_blocks, int_at_least(0));
+    v("k_base", k_base, int_at_least(1));
+    v("gamma", gamma, in_range(0.0, 1.0));
+    v("world_edge_radius", world_edge_radius, positive());
+    v("normalizer_warmup", normalizer_warmup, int_at_least(0));
+    v("normalizer_epsilon", normalizer_epsilon, positive());
+    v("train_k_range", train_k_range);
+    v("material_ranges", material_ranges);
+  }
+};
+
+// Checks what per-key checks cannot (list lengths, ordered ranges); throws pb4u::Error naming
+// `where` + the key, e.g. "model.train_k_range".
+void validate_model_config(const ModelConfig& config, const std::string& where = "model");
+
+}  // namespace pb4u

@@ -1,0 +1,118 @@
+#include "pb4u/graph/build_graph.h"
+
+#include <cmath>
+#include <vector>
+
+#include "pb4u/graph/features.h"
+#include "pb4u/graph/world_edges.h"
+#include "pb4u/util/error.h"
+
+namespace pb4u {
+
+namespace {
+
+void check_points(const torch::Tensor& t, int64_t rows, const char* name) {
+  if (!t.defined() || t.dim() != 2 || t.size(1) != 3 || (rows >= 0 && t.size(0) != rows)) {
+    std::string want = rows >= 0 ? "(" + std::to_string(rows) + ", 3)" : "(n, 3)";
+    std::string got = t.defined() ? c10::str(t.sizes()) : "undefined";
+    fail_file("frame state", std::string(name) + " must be a " + want + " tensor, got " + got);
+  }
+  if (!torch::isfinite(t).all().item<bool>()) fail_file("frame state", std::string(name) + " is not finite");
+}
+
+// Node features shared by every node: material, effect flags, gravity (SPEC 4 / 6).
+torch::Tensor scene_features(const FrameState& s, const MaterialRanges& ranges) {
+  auto m = normalised_material(s.material, ranges);
+  const Effects& e = s.effects;
+  const double g = e.gravity ? 1.0 : 0.0;
+  std::vector<float> f = {float(m[0]), float(m[1]), float(m[2]), float(m[3]),
+                          float(e.gravity), float(e.collision), float(e.friction), float(e.pins),
+                          float(g * s.gravity[0]), float(g * s.gravity[1]), float(g * s.gravity[2])};
+  return torch::tensor(f);
+}
+
+torch::Tensor one_hot_rows(int64_t rows, int64_t hot) {
+  auto t = torch::zeros({rows, 3});
+  if (rows > 0) t.select(1, hot).fill_(1);
+  return t;
+}
+
+}  // namespace
+
+GraphBatch build_graph(const FrameState& state, const GarmentTopology& topology,
+                       double world_edge_radius, const MaterialRanges& ranges) {
+  const int64_t n = topology.num_vertices;
+  check_points(state.x, n, "x");
+  check_points(state.x_prev, n, "x_prev");
+  if (!(state.dt > 0)) fail_file("frame state", "dt must be positive");
+  auto x = state.x.to(torch::kFloat32), x_prev = state.x_prev.to(torch::kFloat32);
+  auto v = (x - x_prev) / state.dt;
+  auto scene = scene_features(state, ranges);
+
+  auto type = one_hot_rows(n, 0);
+  if (state.effects.pins && state.pinned.defined()) {
+    if (state.pinned.dim() != 1 || state.pinned.size(0) != n)
+      fail_file("frame state", "pinned must have one flag per garment vertex (" + std::to_string(n) + ")");
+    auto pinned = state.pinned.to(torch::kBool).unsqueeze(1);
+    type = torch::where(pinned, one_hot_rows(n, 2), type);
+  }
+  auto log_mass = torch::log(topology.vertex_area * state.material.density).unsqueeze(1);
+  auto garment = torch::cat({v, vertex_normals(x, topology.faces), type, log_mass,
+                             scene.expand({n, scene.size(0)})}, 1);
+
+  GraphBatch g;
+  g.num_garment_nodes = n;
+  g.mesh_senders = topology.senders;
+  g.mesh_receivers = topology.receivers;
+  g.mesh_features = mesh_edge_features(x, topology);
+  g.vertex_mean_edge_length = topology.vertex_mean_edge_length;
+  g.mean_edge_length = topology.mean_edge_length;
+  g.world_senders = torch::empty({0}, torch::kInt64);
+  g.world_receivers = torch::empty({0}, torch::kInt64);
+  g.world_features = torch::empty({0, kWorldEdgeFeatureDim});
+  g.body_vertex_index = torch::empty({0}, torch::kInt64);
+  g.node_features = garment;
+  if (!state.effects.needs_body() || !state.body.defined()) return g;
+
+  const BodyFrame& body = state.body;
+  check_points(body.vertices, -1, "body.vertices");
+  const int64_t nb = body.vertices.size(0);
+  check_points(body.next_vertices, nb, "body.next_vertices");
+  if (!body.faces.defined() || body.faces.dim() != 2 || body.faces.size(1) != 3)
+    fail_file("frame state", "body.faces must be a (m, 3) tensor");
+  auto pairs = garment_body_pairs(x, body.vertices, world_edge_radius);
+  const int64_t np = pairs.size(0);
+  if (np == 0) return g;
+
+  // Only body vertices that world edges touch become nodes, numbered after the garment's.
+  std::vector<int64_t> node_of(nb, -1), used;
+  auto pa = pairs.accessor<int64_t, 2>();
+  auto body_node = torch::empty({np}, torch::kInt64);
+  auto bn = body_node.accessor<int64_t, 1>();
+  for (int64_t i = 0; i < np; ++i) {
+    int64_t b = pa[i][1];
+    if (node_of[b] < 0) {
+      node_of[b] = n + static_cast<int64_t>(used.size());
+      used.push_back(b);
+    }
+    bn[i] = node_of[b];
+  }
+  auto used_t = torch::tensor(used, torch::kInt64);
+  auto bx = body.vertices.to(torch::kFloat32), bx_next = body.next_vertices.to(torch::kFloat32);
+  auto b_now = bx.index_select(0, used_t), b_next = bx_next.index_select(0, used_t);
+  const int64_t nu = used_t.size(0);
+  auto body_normals = vertex_normals(bx, body.faces.to(torch::kInt64)).index_select(0, used_t);
+  auto body_nodes = torch::cat({(b_next - b_now) / state.dt, body_normals, one_hot_rows(nu, 1),
+                                torch::zeros({nu, 1}), scene.expand({nu, scene.size(0)})}, 1);
+  g.node_features = torch::cat({garment, body_nodes}, 0);
+  g.body_vertex_index = used_t;
+
+  auto garment_node = pairs.select(1, 0).contiguous();
+  g.world_senders = torch::cat({body_node, garment_node});
+  g.world_receivers = torch::cat({garment_node, body_node});
+  auto p = torch::cat({x, b_now}, 0), q = torch::cat({x + v * state.dt, b_next}, 0);
+  g.world_features = world_edge_features(p, q, g.world_senders, g.world_receivers);
+  return g;
+}
+
+}  // namespace pb4u

@@ -1,0 +1,52 @@
+#include "pb4u/graph/features.h"
+
+#include <cmath>
+
+#include "pb4u/util/error.h"
+
+namespace pb4u {
+
+torch::Tensor vertex_normals(const torch::Tensor& x, const torch::Tensor& faces) {
+  auto a = x.index_select(0, faces.select(1, 0)), b = x.index_select(0, faces.select(1, 1)),
+       c = x.index_select(0, faces.select(1, 2));
+  // Unnormalised face normals weigh each face by twice its area.
+  auto fn = torch::cross(b - a, c - a, 1);
+  auto n = torch::zeros_like(x);
+  for (int k = 0; k < 3; ++k) n.index_add_(0, faces.select(1, k), fn);
+  auto norm = n.norm(2, 1, true);
+  return torch::where(norm > 0, n / norm.clamp_min(1e-30), torch::zeros_like(n));
+}
+
+std::array<double, 4> normalised_material(const Material& material, const MaterialRanges& ranges,
+                                          const std::string& where) {
+  auto unit = [&](const char* key, const std::vector<double>& range, double value, bool log) {
+    if (range.size() != 2 || !(range[0] < range[1]) || (log && range[0] <= 0))
+      fail_file(where + "." + key, log ? "expected an increasing pair of positive numbers [lo, hi]"
+                                       : "expected an increasing pair [lo, hi]");
+    if (log) {
+      if (value <= 0) fail_file(std::string("material.") + key, "must be positive");
+      return (std::log(value) - std::log(range[0])) / (std::log(range[1]) - std::log(range[0]));
+    }
+    return (value - range[0]) / (range[1] - range[0]);
+  };
+  return {unit("density", ranges.density, material.density, false),
+          unit("mu", ranges.mu, material.mu, true),
+          unit("lambda", ranges.lambda, material.lambda, false),
+          unit("bending", ranges.bending, material.bending, true)};
+}
+
+torch::Tensor mesh_edge_features(const torch::Tensor& x, const GarmentTopology& topology) {
+  auto d = x.index_select(0, topology.receivers) - x.index_select(0, topology.senders);
+  auto len = d.norm(2, 1, true);
+  auto rest_len = topology.rest_length.unsqueeze(1);
+  return torch::cat({d / len.clamp_min(1e-12), topology.rest_direction, len / rest_len}, 1);
+}
+
+torch::Tensor world_edge_features(const torch::Tensor& p, const torch::Tensor& q,
+                                  const torch::Tensor& senders, const torch::Tensor& receivers) {
+  auto dp = p.index_select(0, receivers) - p.index_select(0, senders);
+  auto dq = q.index_select(0, receivers) - q.index_select(0, senders);
+  return torch::cat({dp, dp.norm(2, 1, true), dq, dq.norm(2, 1, true)}, 1);
+}
+
+}  // namespace pb4u

@@ -1,0 +1,30 @@
+#include "pb4u/graph/world_edges.h"
+
+#include <Eigen/Core>
+
+#include "pb4u/spatial/point_kd_tree.h"
+
+namespace pb4u {
+
+namespace {
+Eigen::MatrixXd to_eigen(const torch::Tensor& t) {
+  auto c = t.detach().to(torch::kCPU, torch::kFloat64).contiguous();
+  using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
+  return Eigen::Map<const RowMajor>(c.data_ptr<double>(), c.size(0), 3);
+}
+}  // namespace
+
+torch::Tensor garment_body_pairs(const torch::Tensor& x, const torch::Tensor& body_vertices,
+                                 double radius) {
+  PointKdTree tree(to_eigen(body_vertices));
+  auto pairs = tree.within_radius(to_eigen(x), radius);
+  auto out = torch::empty({static_cast<int64_t>(pairs.size()), 2}, torch::kInt64);
+  auto a = out.accessor<int64_t, 2>();
+  for (size_t i = 0; i < pairs.size(); ++i) {
+    a[i][0] = pairs[i].first;
+    a[i][1] = pairs[i].second;
+  }
+  return out;
+}
+
+}  // namespace pb4u

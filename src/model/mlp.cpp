@@ -1,0 +1,69 @@
+#include "pb4u/model/mlp.h"
+
+#include <cmath>
+
+namespace pb4u {
+
+MLPImpl::MLPImpl(std::vector<int64_t> sizes, int64_t hidden, int64_t output, int hidden_layers,
+                 bool layer_norm)
+    : input_sizes(std::move(sizes)) {
+  int64_t fan_in = 0;
+  for (int64_t s : input_sizes) fan_in += s;
+  // The split first layer is one Linear(fan_in, hidden) cut by columns: same init as torch's.
+  const double bound = 1.0 / std::sqrt(static_cast<double>(fan_in));
+  for (size_t i = 0; i < input_sizes.size(); ++i)
+    first_weights.push_back(register_parameter(
+        "first_weight" + std::to_string(i),
+        torch::empty({hidden, input_sizes[i]}).uniform_(-bound, bound)));
+  first_bias = register_parameter("first_bias", torch::empty({hidden}).uniform_(-bound, bound));
+  rest = register_module("rest", torch::nn::Sequential());
+  rest->push_back(torch::nn::ReLU());
+  for (int l = 1; l < hidden_layers; ++l) {
+    rest->push_back(torch::nn::Linear(hidden, hidden));
+    rest->push_back(torch::nn::ReLU());
+  }
+  rest->push_back(torch::nn::Linear(hidden, output));
+  if (layer_norm)
+    norm = register_module("norm", torch::nn::LayerNorm(torch::nn::LayerNormOptions({output})));
+}
+
+torch::Tensor MLPImpl::first_layer(size_t part, const torch::Tensor& x) const {
+  return torch::matmul(x, first_weights[part].t());
+}
+
+torch::Tensor MLPImpl::finish(const torch::Tensor& first_layer_sum) {
+  auto y = rest->forward(first_layer_sum + first_bias);
+  return norm ? norm(y) : y;
+}
+
+torch::Tensor MLPImpl::forward(const std::vector<torch::Tensor>& inputs) {
+  TORCH_CHECK(inputs.size() == input_sizes.size(), "MLP: expected ", input_sizes.size(),
+              " inputs, got ", inputs.size());
+  auto sum = first_layer(0, inputs[0]);
+  for (size_t i = 1; i < inputs.size(); ++i) sum = sum + first_layer(i, inputs[i]);
+  return finish(sum);
+}
+
+torch::Tensor edge_mlp(MLPImpl& f, const torch::Tensor& nodes, const torch::Tensor& edges,
+                       const torch::Tensor& senders, const torch::Tensor& receivers,
+                       const torch::Tensor& edge_term, bool split) {
+  if (!split) {
+    auto in = torch::cat({nodes.index_select(0, receivers), nodes.index_select(0, senders), edges}, 1);
+    auto w = torch::cat({f.first_weights[0], f.first_weights[1], f.first_weights[2]}, 1);
+    return f.finish(torch::matmul(in, w.t()));
+  }
+  // One matmul for both node terms, then a gather per edge end.
+  auto w_nodes = torch::cat({f.first_weights[0], f.first_weights[1]}, 0);
+  auto terms = torch::matmul(nodes, w_nodes.t());
+  const int64_t h = f.first_weights[0].size(0);
+  auto at_receiver = terms.narrow(1, 0, h).index_select(0, receivers);
+  auto at_sender = terms.narrow(1, h, h).index_select(0, senders);
+  auto e = edge_term.defined() ? edge_term : f.first_layer(2, edges);
+  return f.finish(at_receiver + at_sender + e);
+}
+
+torch::Tensor sum_at_receivers(const torch::Tensor& values, const torch::Tensor& receivers, int64_t n) {
+  return torch::zeros({n, values.size(1)}, values.options()).index_add_(0, receivers, values);
+}
+
+}  // namespace pb4u

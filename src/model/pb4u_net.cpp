@@ -1,0 +1,144 @@
+#include "pb4u/model/pb4u_net.h"
+
+#include <chrono>
+#include <fstream>
+#include <map>
+
+#include "pb4u/graph/build_graph.h"
+#include "pb4u/graph/features.h"
+#include "pb4u/model/euler_step.h"
+#include "pb4u/model/propagation_control.h"
+#include "pb4u/model/update_scaling.h"
+#include "pb4u/util/atomic_file.h"
+#include "pb4u/util/error.h"
+
+namespace pb4u {
+
+namespace {
+// Adds the milliseconds since `t0` to *slot (if timing) and restarts the clock.
+struct StageClock {
+  std::chrono::steady_clock::time_point t0 = std::chrono::steady_clock::now();
+  void lap(double* slot) {
+    auto now = std::chrono::steady_clock::now();
+    if (slot) *slot += std::chrono::duration<double, std::milli>(now - t0).count();
+    t0 = now;
+  }
+};
+}  // namespace
+
+Pb4uNetImpl::Pb4uNetImpl(const ModelConfig& c) : config(c) {
+  validate_model_config(config);
+  normalised_material(Material{}, config.material_ranges);  // rejects bad ranges now
+  const int64_t H = config.latent;
+  const int L = config.mlp_hidden_layers;
+  auto normalizer = [&](const char* name, int64_t dim) {
+    return register_module(name, OnlineNormalizer(dim, config.normalizer_warmup, config.normalizer_epsilon));
+  };
+  vertex_normalizer = normalizer("vertex_normalizer", kVertexFeatureDim);
+  mesh_normalizer = normalizer("mesh_normalizer", kMeshEdgeFeatureDim);
+  world_normalizer = normalizer("world_normalizer", kWorldEdgeFeatureDim);
+  auto encoder = [&](const char* name, int64_t dim) {
+    return register_module(name, MLP(std::vector<int64_t>{dim}, H, H, L, true));
+  };
+  vertex_encoder = encoder("vertex_encoder", kVertexFeatureDim);
+  mesh_encoder = encoder("mesh_encoder", kMeshEdgeFeatureDim);
+  world_encoder = encoder("world_encoder", kWorldEdgeFeatureDim);
+  if (config.is_pb4u()) {
+    propagation = register_module("propagation", DecayedPropagation(H, L, config.gamma));
+    update = register_module("update", MLP(std::vector<int64_t>{H, H}, H, H, L, true));
+  }
+  for (int b = 0; b < config.num_blocks; ++b)
+    blocks.push_back(register_module("block" + std::to_string(b), GraphNetBlock(H, L)));
+  decoder = register_module("decoder", MLP(std::vector<int64_t>{H}, H, 3, L, false));
+  lbar_base = register_buffer("mean_edge_length_base", torch::zeros({}, torch::kFloat64));
+  distance = register_buffer("propagation_distance", torch::zeros({}, torch::kFloat64));
+}
+
+void Pb4uNetImpl::calibrate(double base) {
+  if (!(base > 0)) throw Error("model calibration: the mean edge length must be positive");
+  torch::NoGradGuard no_grad;
+  lbar_base.fill_(base);
+  distance.fill_(config.k_base * base);
+}
+
+double Pb4uNetImpl::mean_edge_length_base() const { return lbar_base.item<double>(); }
+double Pb4uNetImpl::propagation_distance() const { return distance.item<double>(); }
+
+int64_t Pb4uNetImpl::propagation_steps_for(double mean_edge_length) const {
+  return inference_propagation_steps(config, propagation_distance(), mean_edge_length);
+}
+
+torch::Tensor Pb4uNetImpl::forward(const GraphBatch& g, int64_t K, StageTimes* times) {
+  StageClock clock;
+  const int64_t H = config.latent;
+  LatentGraph latent;
+  latent.nodes = vertex_encoder->forward({vertex_normalizer(g.node_features)});
+  latent.mesh_edges = mesh_encoder->forward({mesh_normalizer(g.mesh_features)});
+  latent.world_edges = g.num_world_edges() > 0
+                           ? world_encoder->forward({world_normalizer(g.world_features)})
+                           : torch::zeros({0, H});
+  clock.lap(times ? &times->encode : nullptr);
+  if (config.is_pb4u()) {
+    auto h = propagation(latent.nodes, latent.mesh_edges, g.mesh_senders, g.mesh_receivers, K);
+    latent.nodes = update->forward({latent.nodes, h});
+  }
+  clock.lap(times ? &times->propagate : nullptr);
+  for (auto& block : blocks)
+    latent = block(latent, g.mesh_senders, g.mesh_receivers, g.world_senders, g.world_receivers);
+  clock.lap(times ? &times->blocks : nullptr);
+  auto a = decoder->forward({latent.nodes.narrow(0, 0, g.num_garment_nodes)});
+  auto s = update_scale(g.vertex_mean_edge_length, mean_edge_length_base(), config.update_scaling_on());
+  a = a * s;
+  clock.lap(times ? &times->decode : nullptr);
+  return a;
+}
+
+torch::Tensor Pb4uNetImpl::step(const FrameState& state, const GarmentTopology& topology,
+                                int64_t k_override) {
+  c10::InferenceMode guard;
+  auto g = build_graph(state, topology, config.world_edge_radius, config.material_ranges);
+  const int64_t K = k_override >= 0 ? k_override : propagation_steps_for(g.mean_edge_length);
+  return euler_step(state, forward(g, K));
+}
+
+void Pb4uNetImpl::set_split_first_layer(bool split) {
+  if (propagation) propagation->split_first_layer = split;
+  for (auto& b : blocks) b->split_first_layer = split;
+}
+
+void save_model(Pb4uNet& model, const std::string& path) {
+  const std::string temp = temp_path_for(path);
+  try {
+    torch::save(model, temp);
+  } catch (const c10::Error& e) {
+    std::remove(temp.c_str());
+    fail_file(path, "cannot write the model: " + std::string(e.what_without_backtrace()));
+  }
+  commit_file(temp, path);
+}
+
+Pb4uNet load_model(const std::string& path, const ModelConfig& config) {
+  if (!std::ifstream(path).good()) fail_file(path, "cannot open the model file");
+  Pb4uNet model(config);
+  // torch::load replaces tensors wholesale (set_), shapes included, so a checkpoint of another
+  // width would load silently: compare every shape with the config's.
+  std::map<std::string, std::vector<int64_t>> expected;
+  for (const auto& p : model->named_parameters()) expected[p.key()] = p.value().sizes().vec();
+  for (const auto& b : model->named_buffers()) expected[b.key()] = b.value().sizes().vec();
+  try {
+    torch::load(model, path);
+  } catch (const c10::Error& e) {
+    std::string why = e.what_without_backtrace();
+    fail_file(path, "not a model of this config (" + why.substr(0, why.find('\n')) + ")");
+  }
+  auto check = [&](const std::string& key, const torch::Tensor& t) {
+    if (t.sizes().vec() != expected[key])
+      fail_file(path, "not a model of this config (" + key + " has shape " + c10::str(t.sizes()) +
+                          ", the config gives " + c10::str(c10::IntArrayRef(expected[key])) + ")");
+  };
+  for (const auto& p : model->named_parameters()) check(p.key(), p.value());
+  for (const auto& b : model->named_buffers()) check(b.key(), b.value());
+  return model;
+}
+
+}  // namespace pb4u

@@ -1,0 +1,168 @@
+// The whole network: invariances, serialisation, every kind/ablation, inference step.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+
+#include "model/tiny_scene.h"
+#include "pb4u/graph/build_graph.h"
+#include "pb4u/model/pb4u_net.h"
+#include "pb4u/util/error.h"
+
+namespace pb4u {
+namespace {
+
+using test::tiny_config;
+using test::tiny_scene;
+
+// A calibrated model whose normalisers saw a few frames (so they are not the identity).
+Pb4uNet warmed_model(const ModelConfig& c, unsigned seed = 0) {
+  torch::manual_seed(seed);
+  Pb4uNet model(c);
+  model->calibrate(0.04);
+  model->train();
+  for (unsigned i = 0; i < 3; ++i) {
+    auto s = tiny_scene(100 + i, true);
+    GarmentTopology t = build_garment_topology(s.rest);
+    model->forward(build_graph(s.state, t, c.world_edge_radius, c.material_ranges), 2);
+  }
+  model->eval();
+  return model;
+}
+
+torch::Tensor predict(Pb4uNet& model, const test::TinyScene& s, int64_t K = -1) {
+  GarmentTopology t = build_garment_topology(s.rest);
+  const ModelConfig& c = model->config;
+  GraphBatch g = build_graph(s.state, t, c.world_edge_radius, c.material_ranges);
+  torch::NoGradGuard no_grad;
+  return model->forward(g, K >= 0 ? K : model->propagation_steps_for(g.mean_edge_length));
+}
+
+TEST(Pb4uNet, InvariantToTranslatingTheScene) {
+  Pb4uNet model = warmed_model(tiny_config());
+  auto s = tiny_scene(11, true);
+  auto a = predict(model, s);
+  const Eigen::RowVector3d shift(0.7, -0.3, 1.2);
+  auto shift_t = torch::tensor({0.7, -0.3, 1.2}, torch::kFloat64);
+  auto moved = s;
+  moved.rest.V = s.rest.V.rowwise() + shift;
+  moved.state.x = s.state.x + shift_t;
+  moved.state.x_prev = s.state.x_prev + shift_t;
+  moved.state.pin_targets = s.state.pin_targets + shift_t;
+  moved.state.body.vertices = s.state.body.vertices + shift_t;
+  moved.state.body.next_vertices = s.state.body.next_vertices + shift_t;
+  auto b = predict(model, moved);
+  EXPECT_GT(a.abs().max().item<float>(), 1e-3f);
+  EXPECT_TRUE(torch::allclose(a, b, 1e-4, 1e-4)) << (a - b).abs().max().item<float>();
+}
+
+TEST(Pb4uNet, EquivariantToRelabellingVertices) {
+  Pb4uNet model = warmed_model(tiny_config());
+  auto s = tiny_scene(12);
+  const int n = s.rest.num_vertices();
+  auto perm = torch::randperm(n, torch::kInt64);
+  auto inverse = torch::empty_like(perm);
+  inverse.index_put_({perm}, torch::arange(n, torch::kInt64));
+  auto p = s;
+  for (int i = 0; i < n; ++i) p.rest.V.row(i) = s.rest.V.row(perm[i].item<int64_t>());
+  for (int f = 0; f < s.rest.num_faces(); ++f)
+    for (int k = 0; k < 3; ++k) p.rest.F(f, k) = static_cast<int>(inverse[s.rest.F(f, k)].item<int64_t>());
+  p.state.x = s.state.x.index_select(0, perm);
+  p.state.x_prev = s.state.x_prev.index_select(0, perm);
+  auto a = predict(model, s, 3), b = predict(model, p, 3);
+  EXPECT_TRUE(torch::allclose(b, a.index_select(0, perm), 1e-4, 1e-5));
+}
+
+TEST(Pb4uNet, SaveLoadRoundTripGivesIdenticalOutputs) {
+  ModelConfig c = tiny_config();
+  Pb4uNet model = warmed_model(c, 3);
+  const std::string path = test::temp_dir("model") + "/model.pt";
+  save_model(model, path);
+  Pb4uNet loaded = load_model(path, c);
+  loaded->eval();
+  EXPECT_DOUBLE_EQ(loaded->propagation_distance(), model->propagation_distance());
+  EXPECT_TRUE(torch::equal(loaded->vertex_normalizer->sum, model->vertex_normalizer->sum));
+  auto s = tiny_scene(13, true);
+  EXPECT_TRUE(torch::equal(predict(model, s), predict(loaded, s)));
+  // A checkpoint of another shape is a clear error naming the file.
+  ModelConfig wider = c;
+  wider.latent = 32;
+  try {
+    load_model(path, wider);
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find(path), std::string::npos);
+  }
+  EXPECT_THROW(load_model(path + ".missing", c), Error);
+}
+
+TEST(Pb4uNet, FiniteOutputsForEveryKindAndAblation) {
+  for (std::string kind : {"pb4u", "mgn"})
+    for (std::string control : {"on", "off"})
+      for (std::string scaling : {"on", "off"}) {
+        ModelConfig c = tiny_config(kind);
+        c.propagation_control = control;
+        c.update_scaling = scaling;
+        Pb4uNet model = warmed_model(c, 4);
+        for (bool body : {true, false}) {
+          auto s = tiny_scene(14);
+          s.state.x = s.state.x + 0.05 * torch::randn_like(s.state.x);
+          s.state.effects.collision = s.state.effects.friction = body;
+          auto a = predict(model, s);
+          EXPECT_EQ(a.sizes(), s.state.x.sizes());
+          EXPECT_TRUE(torch::isfinite(a).all().item<bool>()) << kind << control << scaling << body;
+        }
+      }
+}
+
+TEST(Pb4uNet, PropagationDepthMattersOnlyForPb4u) {
+  auto s = tiny_scene(15);
+  Pb4uNet pb4u = warmed_model(tiny_config(), 5);
+  EXPECT_FALSE(torch::allclose(predict(pb4u, s, 1), predict(pb4u, s, 5)));
+  Pb4uNet mgn = warmed_model(tiny_config("mgn"), 5);
+  EXPECT_TRUE(torch::equal(predict(mgn, s, 1), predict(mgn, s, 5)));
+  EXPECT_LT(mgn->parameters().size(), pb4u->parameters().size());
+}
+
+TEST(Pb4uNet, StepRunsUnderInferenceModeAndFollowsPins) {
+  Pb4uNet model = warmed_model(tiny_config(), 6);
+  auto s = tiny_scene(16, true);
+  GarmentTopology t = build_garment_topology(s.rest);
+  model->train();  // even in training mode an inference step must not touch the statistics
+  auto before = model->vertex_normalizer->count.item<double>();
+  auto x_next = model->step(s.state, t);
+  EXPECT_TRUE(x_next.is_inference());
+  EXPECT_EQ(model->vertex_normalizer->count.item<double>(), before);
+  EXPECT_TRUE(torch::allclose(x_next.narrow(0, 0, 5), s.state.pin_targets.narrow(0, 0, 5).to(torch::kFloat32)));
+  // Explicit K override: a different depth, a different prediction.
+  EXPECT_FALSE(torch::allclose(model->step(s.state, t, 1), model->step(s.state, t, 6)));
+}
+
+TEST(Pb4uNet, NormalisersFreezeAfterWarmupAndGradientsFlow) {
+  ModelConfig c = tiny_config();
+  c.normalizer_warmup = 2;
+  Pb4uNet model(c);
+  model->calibrate(0.04);
+  auto s = tiny_scene(17);
+  GarmentTopology t = build_garment_topology(s.rest);
+  GraphBatch g = build_graph(s.state, t, c.world_edge_radius, c.material_ranges);
+  for (int i = 0; i < 4; ++i) model->forward(g, 3);
+  EXPECT_EQ(model->vertex_normalizer->accumulations.item<int64_t>(), 2);
+  EXPECT_TRUE(model->vertex_normalizer->frozen());
+  auto loss = model->forward(g, 3).square().sum();
+  loss.backward();
+  for (auto& p : model->named_parameters())
+    ASSERT_TRUE(p.value().grad().defined()) << p.key();
+}
+
+TEST(Pb4uNet, UncalibratedModelIsAClearError) {
+  Pb4uNet model(tiny_config());
+  auto s = tiny_scene(18);
+  GarmentTopology t = build_garment_topology(s.rest);
+  EXPECT_THROW(model->step(s.state, t), Error);
+  ModelConfig bad = tiny_config();
+  bad.train_k_range = {1.0};
+  EXPECT_THROW(Pb4uNet{bad}, Error);
+}
+
+}  // namespace
+}  // namespace pb4u
