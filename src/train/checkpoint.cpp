@@ -41,6 +41,8 @@ void write_meta(torch::serialize::OutputArchive& ar, const CheckpointMeta& meta)
   ar.write("meta/step", torch::tensor(meta.step, torch::kInt64));
   ar.write("meta/config_yaml", bytes_to_tensor(meta.config_yaml));
   ar.write("meta/host_rng_state", bytes_to_tensor(meta.host_rng_state));
+  ar.write("meta/elapsed_seconds", torch::tensor(meta.elapsed_seconds, torch::kFloat64));
+  ar.write("meta/skipped_steps", torch::tensor(meta.skipped_steps, torch::kInt64));
   ar.write("meta/torch_rng_state", cpu_generator_state());
 }
 
@@ -63,6 +65,8 @@ CheckpointMeta read_meta(torch::serialize::InputArchive& ar, const std::string& 
   meta.step = read_tensor(ar, "meta/step", path).item<int64_t>();
   meta.config_yaml = tensor_to_bytes(read_tensor(ar, "meta/config_yaml", path));
   meta.host_rng_state = tensor_to_bytes(read_tensor(ar, "meta/host_rng_state", path));
+  meta.elapsed_seconds = read_tensor(ar, "meta/elapsed_seconds", path).item<double>();
+  meta.skipped_steps = read_tensor(ar, "meta/skipped_steps", path).item<int64_t>();
   return meta;
 }
 

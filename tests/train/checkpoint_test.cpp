@@ -45,6 +45,8 @@ TEST(Checkpoint, RoundTripsModelOptimiserStepAndRng) {
   meta.step = 17;
   meta.config_yaml = "model:\n  width: 4\n";
   meta.host_rng_state = "12345 678";
+  meta.elapsed_seconds = 12.5;
+  meta.skipped_steps = 2;
   save_checkpoint(checkpoint_path(dir, 17), *a, &opt_a, meta);
   torch::Tensor expected_next = torch::rand({3});  // drawn after the state was saved
 
@@ -54,6 +56,8 @@ TEST(Checkpoint, RoundTripsModelOptimiserStepAndRng) {
   EXPECT_EQ(back.step, 17);
   EXPECT_EQ(back.config_yaml, meta.config_yaml);
   EXPECT_EQ(back.host_rng_state, meta.host_rng_state);
+  EXPECT_EQ(back.elapsed_seconds, 12.5);
+  EXPECT_EQ(back.skipped_steps, 2);
   EXPECT_TRUE(torch::equal(a->fc->weight, b->fc->weight));
   EXPECT_TRUE(torch::equal(a->stat, b->stat));
   EXPECT_TRUE(torch::equal(torch::rand({3}), expected_next));  // torch RNG restored

@@ -14,6 +14,8 @@ struct CheckpointMeta {
   int64_t step = 0;
   std::string config_yaml;     // the effective config of the run
   std::string host_rng_state;  // serialised std::mt19937_64 (or any host RNG) state
+  double elapsed_seconds = 0;  // training wall time so far, s
+  int64_t skipped_steps = 0;   // steps skipped for a non-finite loss or gradient
   std::string kind = "pb4u-train-checkpoint";
   int64_t format_version = 1;
 };
