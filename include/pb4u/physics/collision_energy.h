@@ -1,0 +1,25 @@
+#pragma once
+// Cubic body-penetration penalty (SPEC 3.3).
+#include "pb4u/physics/body_queries.h"
+#include "pb4u/physics/physics_term.h"
+
+namespace pb4u {
+
+// x_next: (n, 3) m. Signed distance d = (x_next - c) . n to each vertex's contact face at
+// t + dt; E = weight * sum max(eps - d, 0)^3 (J). eps in m, weight in J/m^3.
+torch::Tensor collision_energy(const torch::Tensor& x_next, const BodyContact& contact,
+                               double eps, double weight);
+
+class CollisionTerm : public PhysicsTerm {
+ public:
+  CollisionTerm(const CollisionConfig& config, double weight);
+  std::string name() const override { return "collision"; }
+  torch::Tensor energy(const torch::Tensor& x_next, const FrameState& state,
+                       const ClothGeometry& cloth, const BodyContact* contact) const override;
+  double weight() const { return weight_; }
+
+ private:
+  double eps_, weight_;
+};
+
+}  // namespace pb4u

@@ -1,0 +1,42 @@
+#pragma once
+// Per-frame energies of the active terms and their sum: the metric behind `evaluate`
+// (Table 1 rows) and the training loss.
+#include <torch/torch.h>
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "pb4u/physics/physics_term.h"
+
+namespace pb4u {
+
+struct EnergyReport {
+  std::vector<std::pair<std::string, double>> terms;  // active terms, Table-1 order, J
+  double total = 0;                                   // J
+
+  bool has(const std::string& name) const;
+  double value(const std::string& name) const;  // throws pb4u::Error when absent
+};
+
+// Each term's energy tensor (0-dim, differentiable in x_next) in the order of `terms`.
+std::vector<std::pair<std::string, torch::Tensor>> term_energies(
+    const TermList& terms, const torch::Tensor& x_next, const FrameState& state,
+    const ClothGeometry& cloth, const BodyContact* contact);
+
+// Their sum (J): the training loss / the solver's objective.
+torch::Tensor total_energy(const TermList& terms, const torch::Tensor& x_next,
+                           const FrameState& state, const ClothGeometry& cloth,
+                           const BodyContact* contact);
+
+// The frame's report under `material` (default: the evaluation material, SPEC 2), whatever
+// material the state carries. No gradients are recorded.
+EnergyReport energy_report(const TermList& terms, const torch::Tensor& x_next,
+                           const FrameState& state, const ClothGeometry& cloth,
+                           const BodyContact* contact, const Material& material = Material{});
+
+// Term-wise mean over frames (SPEC 3: reported per frame, averaged over a sequence). All
+// reports must list the same terms; throws pb4u::Error otherwise or when empty.
+EnergyReport mean_report(const std::vector<EnergyReport>& reports);
+
+}  // namespace pb4u

@@ -1,0 +1,84 @@
+#pragma once
+// Every constant of the physics terms and the reference solver (SPEC 3, 8), as config
+// sections. Defaults are the SPEC values; nothing numeric is hard-coded in the terms.
+#include <cstdint>
+#include <string>
+
+#include "pb4u/config/config_io.h"
+
+namespace pb4u {
+
+// Cubic penalty E = w * sum max(eps - d, 0)^3 (SPEC 3.3).
+struct CollisionConfig {
+  double eps = 2e-3;          // m: penalty acts closer than this to the body surface
+  double weight_start = 5e3;  // J/m^3: weight at training step 0
+  double weight_end = 5e5;    // J/m^3: final weight, also the evaluation weight
+  int ramp_steps = 50000;     // training steps over which the weight ramps start -> end
+  std::string ramp = "exponential";  // exponential (geometric) | linear | constant (= end)
+
+  template <class V>
+  void visit(V& v) {
+    v("eps", eps, positive());
+    v("weight_start", weight_start, positive());
+    v("weight_end", weight_end, positive());
+    v("ramp_steps", ramp_steps, int_at_least(0));
+    v("ramp", ramp, one_of({"exponential", "linear", "constant"}));
+  }
+};
+
+// E = sum mu m_i |g| |slip_tangential| over vertices in contact (SPEC 3.5).
+struct FrictionConfig {
+  double mu = 0.5;                // friction coefficient
+  double contact_radius = 5e-3;   // m: a vertex whose signed distance at t is below this is in contact
+  // m: |s| is evaluated as sqrt(|s|^2 + d^2) - d, which is 0 at zero slip like |s| but has a
+  // gradient there (the solver and the finite-difference checks need one).
+  double slip_smoothing = 1e-6;
+
+  template <class V>
+  void visit(V& v) {
+    v("mu", mu, non_negative());
+    v("contact_radius", contact_radius, positive());
+    v("slip_smoothing", slip_smoothing, positive());
+  }
+};
+
+// Reference solver (SPEC 8): L-BFGS on the per-frame energy with a backtracking line search.
+struct ReferenceSolverConfig {
+  int max_iterations = 200;         // iteration budget per frame
+  double gradient_tolerance = 1e-6; // N: converged when max |dE/dx| over free coordinates is below
+  int history = 10;                 // L-BFGS memory (pairs)
+  int max_line_search_steps = 30;   // halvings before a step is given up
+  double armijo = 1e-4;             // sufficient-decrease constant c1
+
+  template <class V>
+  void visit(V& v) {
+    v("max_iterations", max_iterations, int_at_least(0));
+    v("gradient_tolerance", gradient_tolerance, positive());
+    v("history", history, int_at_least(1));
+    v("max_line_search_steps", max_line_search_steps, int_at_least(1));
+    v("armijo", armijo, in_range(1e-8, 0.5));
+  }
+};
+
+struct PhysicsConfig {
+  CollisionConfig collision;
+  FrictionConfig friction;
+  ReferenceSolverConfig solver;
+  // m^2: a face whose doubled area is below this counts as degenerate; its normal is not
+  // normalised and hinges touching it bend by 0 (keeps sqrt / atan2 gradients finite).
+  double degenerate_area = 1e-14;
+
+  template <class V>
+  void visit(V& v) {
+    v("collision", collision);
+    v("friction", friction);
+    v("solver", solver);
+    v("degenerate_area", degenerate_area, positive());
+  }
+};
+
+// The collision weight at a training step under the configured ramp; the final weight
+// (weight_end) from ramp_steps on. Evaluation uses weight_end.
+double collision_weight(const CollisionConfig& config, int64_t step);
+
+}  // namespace pb4u

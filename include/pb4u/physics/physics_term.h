@@ -1,0 +1,46 @@
+#pragma once
+// The common shape of the six physics terms (SPEC 3). Each term is a small object in its own
+// file with a free function that computes it; build_terms() assembles the terms a scene's
+// effects call for, and only those.
+#include <torch/torch.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "pb4u/physics/cloth_geometry.h"
+#include "pb4u/physics/physics_config.h"
+#include "pb4u/scene/frame_state.h"
+
+namespace pb4u {
+
+struct BodyContact;
+
+class PhysicsTerm {
+ public:
+  virtual ~PhysicsTerm() = default;
+  // "stretch", "bending", "collision", "inertia", "gravity" or "friction".
+  virtual std::string name() const = 0;
+  // Energy (J, 0-dim tensor of x_next's dtype, differentiable in x_next) of the predicted
+  // positions x_next (n, 3) m, under state.material. contact: the step's body contact; terms
+  // that need it throw pb4u::Error when it is null.
+  virtual torch::Tensor energy(const torch::Tensor& x_next, const FrameState& state,
+                               const ClothGeometry& cloth, const BodyContact* contact) const = 0;
+};
+
+using TermList = std::vector<std::unique_ptr<PhysicsTerm>>;
+
+// The active terms in Table-1 order (stretch, bending, collision, inertia, gravity, friction):
+// stretch, bending and inertia always; gravity / collision / friction only if the effect is on.
+// collision_weight (J/m^3): < 0 means the final weight config.collision.weight_end (evaluation);
+// training passes collision_weight(config.collision, step).
+TermList build_terms(const Effects& effects, const PhysicsConfig& config,
+                     double collision_weight = -1.0);
+
+// Names of the terms in `terms`, in order.
+std::vector<std::string> term_names(const TermList& terms);
+
+// Throws pb4u::Error unless x_next is (num_vertices, 3) floating point of the cloth's dtype.
+void check_positions(const torch::Tensor& x_next, const ClothGeometry& cloth);
+
+}  // namespace pb4u

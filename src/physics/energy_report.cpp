@@ -1,0 +1,70 @@
+#include "pb4u/physics/energy_report.h"
+
+#include "pb4u/util/error.h"
+
+namespace pb4u {
+
+bool EnergyReport::has(const std::string& name) const {
+  for (const auto& t : terms)
+    if (t.first == name) return true;
+  return false;
+}
+
+double EnergyReport::value(const std::string& name) const {
+  for (const auto& t : terms)
+    if (t.first == name) return t.second;
+  throw Error("energy report: no term '" + name + "' (the scene does not have that effect)");
+}
+
+std::vector<std::pair<std::string, torch::Tensor>> term_energies(
+    const TermList& terms, const torch::Tensor& x_next, const FrameState& state,
+    const ClothGeometry& cloth, const BodyContact* contact) {
+  std::vector<std::pair<std::string, torch::Tensor>> out;
+  out.reserve(terms.size());
+  for (const auto& t : terms) out.emplace_back(t->name(), t->energy(x_next, state, cloth, contact));
+  return out;
+}
+
+torch::Tensor total_energy(const TermList& terms, const torch::Tensor& x_next,
+                           const FrameState& state, const ClothGeometry& cloth,
+                           const BodyContact* contact) {
+  torch::Tensor total = torch::zeros({}, x_next.options());
+  for (const auto& t : terms) total = total + t->energy(x_next, state, cloth, contact);
+  return total;
+}
+
+EnergyReport energy_report(const TermList& terms, const torch::Tensor& x_next,
+                           const FrameState& state, const ClothGeometry& cloth,
+                           const BodyContact* contact, const Material& material) {
+  torch::NoGradGuard no_grad;
+  FrameState evaluated = state;
+  evaluated.material = material;
+  EnergyReport report;
+  for (auto& [name, e] : term_energies(terms, x_next.detach(), evaluated, cloth, contact)) {
+    double v = e.item<double>();
+    report.terms.emplace_back(name, v);
+    report.total += v;
+  }
+  return report;
+}
+
+EnergyReport mean_report(const std::vector<EnergyReport>& reports) {
+  if (reports.empty()) throw Error("energy report: no frames to average");
+  EnergyReport mean = reports.front();
+  for (size_t r = 1; r < reports.size(); ++r) {
+    if (reports[r].terms.size() != mean.terms.size())
+      throw Error("energy report: frames list different terms");
+    for (size_t k = 0; k < mean.terms.size(); ++k) {
+      if (reports[r].terms[k].first != mean.terms[k].first)
+        throw Error("energy report: frames list different terms");
+      mean.terms[k].second += reports[r].terms[k].second;
+    }
+    mean.total += reports[r].total;
+  }
+  double n = static_cast<double>(reports.size());
+  for (auto& t : mean.terms) t.second /= n;
+  mean.total /= n;
+  return mean;
+}
+
+}  // namespace pb4u
