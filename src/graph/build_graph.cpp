@@ -40,14 +40,15 @@ torch::Tensor one_hot_rows(int64_t rows, int64_t hot) {
 }  // namespace
 
 GraphBatch build_graph(const FrameState& state, const GarmentTopology& topology,
-                       double world_edge_radius, const MaterialRanges& ranges) {
+                       const GraphOptions& options) {
   const int64_t n = topology.num_vertices;
   check_points(state.x, n, "x");
   check_points(state.x_prev, n, "x_prev");
   if (!(state.dt > 0)) fail_file("frame state", "dt must be positive");
-  auto x = state.x.to(torch::kFloat32), x_prev = state.x_prev.to(torch::kFloat32);
-  auto v = (x - x_prev) / state.dt;
-  auto scene = scene_features(state, ranges);
+  // Velocity from the caller's dtype: float64 positions far from the origin keep their digits.
+  auto v = ((state.x - state.x_prev) / state.dt).to(torch::kFloat32);
+  auto x = state.x.to(torch::kFloat32);
+  auto scene = scene_features(state, options.material_ranges);
 
   auto type = one_hot_rows(n, 0);
   if (state.effects.pins && state.pinned.defined()) {
@@ -80,7 +81,8 @@ GraphBatch build_graph(const FrameState& state, const GarmentTopology& topology,
   check_points(body.next_vertices, nb, "body.next_vertices");
   if (!body.faces.defined() || body.faces.dim() != 2 || body.faces.size(1) != 3)
     fail_file("frame state", "body.faces must be a (m, 3) tensor");
-  auto pairs = garment_body_pairs(x, body.vertices, world_edge_radius);
+  auto pairs = garment_body_pairs(x, body.vertices, options.world_edge_radius,
+                                  options.nearest_body_vertex_only);
   const int64_t np = pairs.size(0);
   if (np == 0) return g;
 

@@ -15,9 +15,19 @@ Eigen::MatrixXd to_eigen(const torch::Tensor& t) {
 }  // namespace
 
 torch::Tensor garment_body_pairs(const torch::Tensor& x, const torch::Tensor& body_vertices,
-                                 double radius) {
+                                 double radius, bool nearest_only) {
   PointKdTree tree(to_eigen(body_vertices));
-  auto pairs = tree.within_radius(to_eigen(x), radius);
+  const Eigen::MatrixXd queries = to_eigen(x);
+  std::vector<std::pair<int, int>> pairs;
+  if (nearest_only) {
+    Eigen::VectorXi index;
+    Eigen::VectorXd d2;
+    tree.nearest(queries, &index, &d2);
+    for (int i = 0; i < index.size(); ++i)
+      if (index(i) >= 0 && d2(i) < radius * radius) pairs.emplace_back(i, index(i));
+  } else {
+    pairs = tree.within_radius(queries, radius);
+  }
   auto out = torch::empty({static_cast<int64_t>(pairs.size()), 2}, torch::kInt64);
   auto a = out.accessor<int64_t, 2>();
   for (size_t i = 0; i < pairs.size(); ++i) {

@@ -14,7 +14,7 @@ torch::Tensor DecayedPropagationImpl::forward(const torch::Tensor& v, const torc
                                               const torch::Tensor& receivers, int64_t K) {
   if (K <= 0) return v;
   // The edge latents do not change across steps: their first-layer term is computed once.
-  torch::Tensor edge_term = split_first_layer ? message->first_layer(2, e) : torch::Tensor();
+  torch::Tensor edge_term = split_first_layer ? message->first_layer(2, e, true) : torch::Tensor();
   auto h = v;
   for (int64_t k = 0; k < K; ++k) {
     auto m = edge_mlp(*message, h, e, senders, receivers, edge_term, split_first_layer);

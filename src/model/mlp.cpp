@@ -17,30 +17,32 @@ MLPImpl::MLPImpl(std::vector<int64_t> sizes, int64_t hidden, int64_t output, int
         torch::empty({hidden, input_sizes[i]}).uniform_(-bound, bound)));
   first_bias = register_parameter("first_bias", torch::empty({hidden}).uniform_(-bound, bound));
   rest = register_module("rest", torch::nn::Sequential());
-  rest->push_back(torch::nn::ReLU());
+  // In-place ReLUs: every activation here is a fresh tensor no one else holds, and on CPU
+  // the saved allocation and memory pass matter as much as the matmuls.
   for (int l = 1; l < hidden_layers; ++l) {
     rest->push_back(torch::nn::Linear(hidden, hidden));
-    rest->push_back(torch::nn::ReLU());
+    rest->push_back(torch::nn::ReLU(torch::nn::ReLUOptions().inplace(true)));
   }
   rest->push_back(torch::nn::Linear(hidden, output));
   if (layer_norm)
     norm = register_module("norm", torch::nn::LayerNorm(torch::nn::LayerNormOptions({output})));
 }
 
-torch::Tensor MLPImpl::first_layer(size_t part, const torch::Tensor& x) const {
-  return torch::matmul(x, first_weights[part].t());
+torch::Tensor MLPImpl::first_layer(size_t part, const torch::Tensor& x, bool with_bias) const {
+  const auto& w = first_weights[part];
+  return with_bias ? torch::addmm(first_bias, x, w.t()) : torch::mm(x, w.t());
 }
 
-torch::Tensor MLPImpl::finish(const torch::Tensor& first_layer_sum) {
-  auto y = rest->forward(first_layer_sum + first_bias);
+torch::Tensor MLPImpl::finish(torch::Tensor first_layer_sum) {
+  auto y = rest->forward(first_layer_sum.relu_());
   return norm ? norm(y) : y;
 }
 
 torch::Tensor MLPImpl::forward(const std::vector<torch::Tensor>& inputs) {
   TORCH_CHECK(inputs.size() == input_sizes.size(), "MLP: expected ", input_sizes.size(),
               " inputs, got ", inputs.size());
-  auto sum = first_layer(0, inputs[0]);
-  for (size_t i = 1; i < inputs.size(); ++i) sum = sum + first_layer(i, inputs[i]);
+  auto sum = first_layer(0, inputs[0], true);
+  for (size_t i = 1; i < inputs.size(); ++i) sum.add_(first_layer(i, inputs[i]));
   return finish(sum);
 }
 
@@ -50,16 +52,15 @@ torch::Tensor edge_mlp(MLPImpl& f, const torch::Tensor& nodes, const torch::Tens
   if (!split) {
     auto in = torch::cat({nodes.index_select(0, receivers), nodes.index_select(0, senders), edges}, 1);
     auto w = torch::cat({f.first_weights[0], f.first_weights[1], f.first_weights[2]}, 1);
-    return f.finish(torch::matmul(in, w.t()));
+    return f.finish(torch::addmm(f.first_bias, in, w.t()));
   }
-  // One matmul for both node terms, then a gather per edge end.
-  auto w_nodes = torch::cat({f.first_weights[0], f.first_weights[1]}, 0);
-  auto terms = torch::matmul(nodes, w_nodes.t());
+  // One matmul gives both node terms of every node; each edge then gathers its two.
   const int64_t h = f.first_weights[0].size(0);
-  auto at_receiver = terms.narrow(1, 0, h).index_select(0, receivers);
-  auto at_sender = terms.narrow(1, h, h).index_select(0, senders);
-  auto e = edge_term.defined() ? edge_term : f.first_layer(2, edges);
-  return f.finish(at_receiver + at_sender + e);
+  auto terms = torch::mm(nodes, torch::cat({f.first_weights[0], f.first_weights[1]}, 0).t());
+  auto pre = terms.narrow(1, 0, h).index_select(0, receivers);
+  pre.add_(terms.narrow(1, h, h).index_select(0, senders));
+  pre.add_(edge_term.defined() ? edge_term : f.first_layer(2, edges, true));
+  return f.finish(pre);
 }
 
 torch::Tensor sum_at_receivers(const torch::Tensor& values, const torch::Tensor& receivers, int64_t n) {

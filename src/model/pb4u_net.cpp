@@ -96,7 +96,7 @@ torch::Tensor Pb4uNetImpl::forward(const GraphBatch& g, int64_t K, StageTimes* t
 torch::Tensor Pb4uNetImpl::step(const FrameState& state, const GarmentTopology& topology,
                                 int64_t k_override) {
   c10::InferenceMode guard;
-  auto g = build_graph(state, topology, config.world_edge_radius, config.material_ranges);
+  auto g = build_graph(state, topology, config.graph_options());
   const int64_t K = k_override >= 0 ? k_override : propagation_steps_for(g.mean_edge_length);
   return euler_step(state, forward(g, K));
 }

@@ -95,18 +95,23 @@ TEST(Features, MaterialNormalisedToUnitRange) {
 TEST(WorldEdges, PairsMatchBruteForce) {
   torch::manual_seed(3);
   auto x = torch::rand({60, 3}, torch::kFloat64) * 0.2, b = torch::rand({80, 3}, torch::kFloat64) * 0.2;
-  auto pairs = garment_body_pairs(x, b, 0.03);
   auto d = torch::cdist(x, b);
-  auto close = (d < 0.03).nonzero();
-  ASSERT_EQ(pairs.size(0), close.size(0));
-  EXPECT_TRUE(torch::equal(pairs, close));
+  auto all = garment_body_pairs(x, b, 0.03, false);
+  EXPECT_TRUE(torch::equal(all, (d < 0.03).nonzero()));
+  // Nearest only: the garment vertices whose nearest body vertex is within the radius.
+  auto [dmin, arg] = d.min(1);
+  auto close = (dmin < 0.03).nonzero().squeeze(1);
+  auto nearest = garment_body_pairs(x, b, 0.03, true);
+  ASSERT_GT(close.size(0), 0);
+  EXPECT_TRUE(torch::equal(nearest, torch::stack({close, arg.index_select(0, close)}, 1)));
+  EXPECT_GT(all.size(0), nearest.size(0));
 }
 
 TEST(BuildGraph, FeaturesOfTheTinyScene) {
   auto s = tiny_scene(2, /*pins=*/true);
   s.state.effects.gravity = false;
   GarmentTopology t = build_garment_topology(s.rest);
-  GraphBatch g = build_graph(s.state, t, 0.03, MaterialRanges{});
+  GraphBatch g = build_graph(s.state, t, GraphOptions{});
   const int64_t n = t.num_vertices;
   ASSERT_EQ(g.node_features.size(1), kVertexFeatureDim);
   ASSERT_EQ(g.num_garment_nodes, n);
@@ -123,12 +128,16 @@ TEST(BuildGraph, FeaturesOfTheTinyScene) {
   EXPECT_EQ(f.select(1, 14).abs().sum().item<float>(), 0.0f);
   EXPECT_EQ(f.narrow(1, 18, 3).abs().sum().item<float>(), 0.0f);
   EXPECT_EQ(f.select(1, 15).min().item<float>(), 1.0f);
-  // World edges: both directions, exactly the garment-body pairs within the radius.
-  auto pairs = garment_body_pairs(s.state.x, s.state.body.vertices, 0.03);
+  // World edges: both directions, one per garment vertex near the body (to its nearest).
+  auto pairs = garment_body_pairs(s.state.x, s.state.body.vertices, 0.03, true);
   ASSERT_GT(pairs.size(0), 0);
   ASSERT_LT(pairs.size(0), n);  // not every garment vertex is in contact
   EXPECT_EQ(g.num_world_edges(), 2 * pairs.size(0));
   EXPECT_EQ(g.num_nodes() - n, std::get<0>(torch::_unique(pairs.select(1, 1))).size(0));
+  GraphOptions all_pairs;
+  all_pairs.nearest_body_vertex_only = false;
+  EXPECT_EQ(build_graph(s.state, t, all_pairs).num_world_edges(),
+            2 * garment_body_pairs(s.state.x, s.state.body.vertices, 0.03, false).size(0));
   auto p = g.world_features.select(1, 3);
   EXPECT_LT(p.max().item<float>(), 0.03f);
   EXPECT_TRUE(torch::allclose(g.world_features.narrow(1, 0, 3).norm(2, 1), p, 1e-5, 1e-6));
@@ -138,7 +147,7 @@ TEST(BuildGraph, NoBodyEffectsMeansNoWorldEdges) {
   auto s = tiny_scene(4);
   s.state.effects.collision = s.state.effects.friction = false;
   GarmentTopology t = build_garment_topology(s.rest);
-  GraphBatch g = build_graph(s.state, t, 0.03, MaterialRanges{});
+  GraphBatch g = build_graph(s.state, t, GraphOptions{});
   EXPECT_EQ(g.num_world_edges(), 0);
   EXPECT_EQ(g.num_nodes(), t.num_vertices);
   // The topology's index tensors are shared, not copied per frame.
@@ -149,11 +158,11 @@ TEST(BuildGraph, BadFrameStateIsAOneLineError) {
   auto s = tiny_scene(5);
   GarmentTopology t = build_garment_topology(s.rest);
   s.state.x = s.state.x.narrow(0, 0, 7);
-  EXPECT_THROW(build_graph(s.state, t, 0.03, MaterialRanges{}), Error);
+  EXPECT_THROW(build_graph(s.state, t, GraphOptions{}), Error);
   auto s2 = tiny_scene(5);
   s2.state.x[3][1] = std::nan("");
   try {
-    build_graph(s2.state, t, 0.03, MaterialRanges{});
+    build_graph(s2.state, t, GraphOptions{});
     FAIL();
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("not finite"), std::string::npos);

@@ -5,6 +5,7 @@
 
 #include "model/tiny_scene.h"
 #include "pb4u/graph/build_graph.h"
+#include "pb4u/graph/concat_graphs.h"
 #include "pb4u/model/pb4u_net.h"
 #include "pb4u/util/error.h"
 
@@ -23,7 +24,7 @@ Pb4uNet warmed_model(const ModelConfig& c, unsigned seed = 0) {
   for (unsigned i = 0; i < 3; ++i) {
     auto s = tiny_scene(100 + i, true);
     GarmentTopology t = build_garment_topology(s.rest);
-    model->forward(build_graph(s.state, t, c.world_edge_radius, c.material_ranges), 2);
+    model->forward(build_graph(s.state, t, c.graph_options()), 2);
   }
   model->eval();
   return model;
@@ -32,7 +33,7 @@ Pb4uNet warmed_model(const ModelConfig& c, unsigned seed = 0) {
 torch::Tensor predict(Pb4uNet& model, const test::TinyScene& s, int64_t K = -1) {
   GarmentTopology t = build_garment_topology(s.rest);
   const ModelConfig& c = model->config;
-  GraphBatch g = build_graph(s.state, t, c.world_edge_radius, c.material_ranges);
+  GraphBatch g = build_graph(s.state, t, c.graph_options());
   torch::NoGradGuard no_grad;
   return model->forward(g, K >= 0 ? K : model->propagation_steps_for(g.mean_edge_length));
 }
@@ -144,7 +145,7 @@ TEST(Pb4uNet, NormalisersFreezeAfterWarmupAndGradientsFlow) {
   model->calibrate(0.04);
   auto s = tiny_scene(17);
   GarmentTopology t = build_garment_topology(s.rest);
-  GraphBatch g = build_graph(s.state, t, c.world_edge_radius, c.material_ranges);
+  GraphBatch g = build_graph(s.state, t, c.graph_options());
   for (int i = 0; i < 4; ++i) model->forward(g, 3);
   EXPECT_EQ(model->vertex_normalizer->accumulations.item<int64_t>(), 2);
   EXPECT_TRUE(model->vertex_normalizer->frozen());
@@ -152,6 +153,29 @@ TEST(Pb4uNet, NormalisersFreezeAfterWarmupAndGradientsFlow) {
   loss.backward();
   for (auto& p : model->named_parameters())
     ASSERT_TRUE(p.value().grad().defined()) << p.key();
+}
+
+TEST(Pb4uNet, ABatchOfGraphsPredictsWhatEachGraphDoes) {
+  Pb4uNet model = warmed_model(tiny_config(), 7);
+  auto a = tiny_scene(19, true), b = tiny_scene(20);
+  b.rest = test::grid_mesh(3, 0.15);  // another garment, another resolution
+  b.state.x = test::to_tensor(b.rest.V) + 0.01;
+  b.state.x_prev = b.state.x - 0.001;
+  auto c = tiny_scene(21);
+  c.state.effects.collision = c.state.effects.friction = false;  // no body at all
+  std::vector<GraphBatch> graphs;
+  std::vector<torch::Tensor> expected;
+  torch::NoGradGuard no_grad;
+  for (auto* s : {&a, &b, &c}) {
+    GarmentTopology t = build_garment_topology(s->rest);
+    graphs.push_back(build_graph(s->state, t, model->config.graph_options()));
+    expected.push_back(model->forward(graphs.back(), 3));
+  }
+  ASSERT_GT(graphs[0].num_world_edges(), 0);
+  GraphBatch batch = concat_graphs(graphs);
+  EXPECT_EQ(batch.num_nodes(), graphs[0].num_nodes() + graphs[1].num_nodes() + graphs[2].num_nodes());
+  EXPECT_TRUE(torch::allclose(model->forward(batch, 3), torch::cat(expected), 1e-5, 1e-5));
+  EXPECT_THROW(concat_graphs({}), Error);
 }
 
 TEST(Pb4uNet, UncalibratedModelIsAClearError) {

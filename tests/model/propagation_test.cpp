@@ -91,7 +91,7 @@ TEST(UpdateScaling, ScalingOnIsScalingOffTimesS) {
   b->calibrate(0.037);
   a->eval();
   b->eval();
-  GraphBatch g = build_graph(scene.state, t, 0.03, MaterialRanges{});
+  GraphBatch g = build_graph(scene.state, t, GraphOptions{});
   auto s = t.vertex_mean_edge_length.unsqueeze(1) / 0.037;
   EXPECT_TRUE(torch::allclose(a->forward(g, 3), b->forward(g, 3) * s, 1e-5, 1e-6));
 }

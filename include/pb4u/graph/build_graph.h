@@ -8,13 +8,22 @@
 
 namespace pb4u {
 
+// How the graph is built (from ModelConfig::graph_options(), so a model always gets the graph
+// it was trained on).
+struct GraphOptions {
+  double world_edge_radius = 0.03;  // m
+  bool nearest_body_vertex_only = true;  // one world edge per garment vertex (else all in radius)
+  MaterialRanges material_ranges;        // normalises the material inputs
+};
+
 // Vertex features (21): velocity v_t (3, m/s), normal (3), type one-hot garment/body/pinned (3),
 // log mass (1, log kg; 0 for body nodes), normalised material (4), effect flags gravity /
 // collision / friction / pins (4), gravity vector (3, m/s^2; zero when gravity is off).
 // World edges exist only when the effects need a body and one is given; both directions.
+// Body nodes are the body vertices world edges touch, after the garment's, in first-touch order.
 // Throws pb4u::Error ("frame state: ...") on shapes that do not match the topology or
 // non-finite positions.
 GraphBatch build_graph(const FrameState& state, const GarmentTopology& topology,
-                       double world_edge_radius, const MaterialRanges& ranges);
+                       const GraphOptions& options);
 
 }  // namespace pb4u

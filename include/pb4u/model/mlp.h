@@ -17,10 +17,12 @@ struct MLPImpl : torch::nn::Module {
   // inputs[i]: (rows, input_sizes[i]) -> (rows, output).
   torch::Tensor forward(const std::vector<torch::Tensor>& inputs);
 
-  // W_part x without bias: (rows, hidden). first_layer(p, x) summed over parts, then finish().
-  torch::Tensor first_layer(size_t part, const torch::Tensor& x) const;
-  // Bias + ReLU of the summed first-layer terms, then the remaining layers: (rows, output).
-  torch::Tensor finish(const torch::Tensor& first_layer_sum);
+  // W_part x: (rows, hidden), with the first layer's bias added when with_bias (exactly one
+  // part of a sum carries it). Summed over parts, then finish().
+  torch::Tensor first_layer(size_t part, const torch::Tensor& x, bool with_bias = false) const;
+  // ReLU of the summed first-layer terms (in place: callers pass a fresh tensor), then the
+  // remaining layers: (rows, output).
+  torch::Tensor finish(torch::Tensor first_layer_sum);
 
   std::vector<int64_t> input_sizes;
   std::vector<torch::Tensor> first_weights;  // per part, (hidden, input_sizes[i])
@@ -32,7 +34,7 @@ TORCH_MODULE(MLP);
 
 // f(x_receiver, x_sender, e) for every edge, with f an MLP of parts {node, node, edge}.
 // nodes (n, d), senders / receivers (E) int64, edges (E, de). `edge_term`, if defined, is
-// f->first_layer(2, edges) computed by the caller (propagation reuses it over its K steps).
+// f->first_layer(2, edges, true) computed by the caller (propagation reuses it over K steps).
 // split = false concatenates the gathered inputs and multiplies once per edge (the slower
 // textbook form, kept for the benchmark and as a reference in tests).
 torch::Tensor edge_mlp(MLPImpl& f, const torch::Tensor& nodes, const torch::Tensor& edges,

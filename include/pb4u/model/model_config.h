@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "pb4u/config/config_io.h"
+#include "pb4u/graph/build_graph.h"
 #include "pb4u/physics/material.h"
 
 namespace pb4u {
@@ -20,6 +21,7 @@ struct ModelConfig {
   int k_base = 4;                          // propagation steps at the calibration resolution
   double gamma = 0.9;                      // decay of the propagation residual
   double world_edge_radius = 0.03;         // m, garment<->body world edges
+  std::string world_edges = "nearest";     // nearest: to the nearest body vertex; radius: all
   int normalizer_warmup = 1000;            // training forward calls that feed the normalisers
   double normalizer_epsilon = 1e-8;        // floor of a feature's standard deviation
   // Training samples K uniformly from [lo * K_base, hi * K_base] (integers).
@@ -30,6 +32,9 @@ struct ModelConfig {
   bool is_pb4u() const { return kind == "pb4u"; }
   bool propagation_control_on() const { return propagation_control == "on"; }
   bool update_scaling_on() const { return update_scaling == "on"; }
+  GraphOptions graph_options() const {
+    return {world_edge_radius, world_edges == "nearest", material_ranges};
+  }
 
   template <class V>
   void visit(V& v) {
@@ -42,6 +47,7 @@ struct ModelConfig {
     v("k_base", k_base, int_at_least(1));
     v("gamma", gamma, in_range(0.0, 1.0));
     v("world_edge_radius", world_edge_radius, positive());
+    v("world_edges", world_edges, one_of({"nearest", "radius"}));
     v("normalizer_warmup", normalizer_warmup, int_at_least(0));
     v("normalizer_epsilon", normalizer_epsilon, positive());
     v("train_k_range", train_k_range);

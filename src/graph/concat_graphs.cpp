@@ -1,0 +1,53 @@
+#include "pb4u/graph/concat_graphs.h"
+
+#include "pb4u/util/error.h"
+
+namespace pb4u {
+
+GraphBatch concat_graphs(const std::vector<GraphBatch>& graphs) {
+  if (graphs.empty()) throw Error("concat_graphs: no graphs to batch");
+  if (graphs.size() == 1) return graphs[0];
+  int64_t total_garment = 0;
+  for (const auto& g : graphs) total_garment += g.num_garment_nodes;
+
+  std::vector<torch::Tensor> garment_nodes, body_nodes, ms, mr, mf, ws, wr, wf, body_index, scale;
+  int64_t garment_offset = 0, body_offset = total_garment;
+  double length_sum = 0, edge_count = 0;
+  for (const auto& g : graphs) {
+    const int64_t n = g.num_garment_nodes, nb = g.num_nodes() - n;
+    garment_nodes.push_back(g.node_features.narrow(0, 0, n));
+    body_nodes.push_back(g.node_features.narrow(0, n, nb));
+    ms.push_back(g.mesh_senders + garment_offset);
+    mr.push_back(g.mesh_receivers + garment_offset);
+    mf.push_back(g.mesh_features);
+    // Garment node v keeps its rank among garments; body node v moves to the body block.
+    auto renumber = [&](const torch::Tensor& v) {
+      return torch::where(v < n, v + garment_offset, v - n + body_offset);
+    };
+    ws.push_back(renumber(g.world_senders));
+    wr.push_back(renumber(g.world_receivers));
+    wf.push_back(g.world_features);
+    body_index.push_back(g.body_vertex_index);
+    scale.push_back(g.vertex_mean_edge_length);
+    length_sum += g.mean_edge_length * static_cast<double>(g.mesh_senders.size(0));
+    edge_count += static_cast<double>(g.mesh_senders.size(0));
+    garment_offset += n;
+    body_offset += nb;
+  }
+  GraphBatch out;
+  garment_nodes.insert(garment_nodes.end(), body_nodes.begin(), body_nodes.end());
+  out.node_features = torch::cat(garment_nodes, 0);
+  out.num_garment_nodes = total_garment;
+  out.mesh_senders = torch::cat(ms);
+  out.mesh_receivers = torch::cat(mr);
+  out.mesh_features = torch::cat(mf, 0);
+  out.world_senders = torch::cat(ws);
+  out.world_receivers = torch::cat(wr);
+  out.world_features = torch::cat(wf, 0);
+  out.body_vertex_index = torch::cat(body_index);
+  out.vertex_mean_edge_length = torch::cat(scale);
+  out.mean_edge_length = edge_count > 0 ? length_sum / edge_count : 0;
+  return out;
+}
+
+}  // namespace pb4u
