@@ -61,6 +61,7 @@ int run_cli(int argc, char** argv) {
   app.add_flag("-q,--quiet", global.quiet, "Warnings and errors only; no progress bars");
 
   add_inspect_command(app, global);
+  add_generate_command(app, global);
 
   try {
     app.parse(argc, argv);
