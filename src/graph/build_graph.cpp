@@ -45,6 +45,7 @@ GraphBatch build_graph(const FrameState& state, const GarmentTopology& topology,
   check_points(state.x, n, "x");
   check_points(state.x_prev, n, "x_prev");
   if (!(state.dt > 0)) fail_file("frame state", "dt must be positive");
+  if (!(state.material.density > 0)) fail_file("frame state", "material.density must be positive");
   // Velocity from the caller's dtype: float64 positions far from the origin keep their digits.
   auto v = ((state.x - state.x_prev) / state.dt).to(torch::kFloat32);
   auto x = state.x.to(torch::kFloat32);

@@ -76,7 +76,7 @@ torch::Tensor Pb4uNetImpl::forward(const GraphBatch& g, int64_t K, StageTimes* t
   latent.mesh_edges = mesh_encoder->forward({mesh_normalizer(g.mesh_features)});
   latent.world_edges = g.num_world_edges() > 0
                            ? world_encoder->forward({world_normalizer(g.world_features)})
-                           : torch::zeros({0, H});
+                           : torch::zeros({0, H}, latent.nodes.options());
   clock.lap(times ? &times->encode : nullptr);
   if (config.is_pb4u()) {
     auto h = propagation(latent.nodes, latent.mesh_edges, g.mesh_senders, g.mesh_receivers, K);

@@ -3,18 +3,10 @@
 // goes into the network.
 #include "pb4u/graph/garment_topology.h"
 #include "pb4u/graph/graph_batch.h"
-#include "pb4u/physics/material.h"
+#include "pb4u/graph/graph_options.h"
 #include "pb4u/scene/frame_state.h"
 
 namespace pb4u {
-
-// How the graph is built (from ModelConfig::graph_options(), so a model always gets the graph
-// it was trained on).
-struct GraphOptions {
-  double world_edge_radius = 0.03;  // m
-  bool nearest_body_vertex_only = true;  // one world edge per garment vertex (else all in radius)
-  MaterialRanges material_ranges;        // normalises the material inputs
-};
 
 // Vertex features (21): velocity v_t (3, m/s), normal (3), type one-hot garment/body/pinned (3),
 // log mass (1, log kg; 0 for body nodes), normalised material (4), effect flags gravity /

@@ -7,7 +7,8 @@
 
 namespace pb4u {
 
-// acceleration (n, 3) m/s^2 -> x_{t+1} (n, 3) m, in the dtype of `acceleration`.
+// acceleration (n, 3) m/s^2 -> x_{t+1} (n, 3) m, in the dtype of state.x (float64 states keep
+// their precision far from the origin).
 torch::Tensor euler_step(const FrameState& state, const torch::Tensor& acceleration);
 
 }  // namespace pb4u

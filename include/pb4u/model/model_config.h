@@ -6,8 +6,7 @@
 #include <vector>
 
 #include "pb4u/config/config_io.h"
-#include "pb4u/graph/build_graph.h"
-#include "pb4u/physics/material.h"
+#include "pb4u/graph/graph_options.h"
 
 namespace pb4u {
 

@@ -44,7 +44,7 @@ struct Pb4uNetImpl : torch::nn::Module {
   torch::Tensor forward(const GraphBatch& graph, int64_t K, StageTimes* times = nullptr);
 
   // One inference step under InferenceMode: builds the graph, K from the calibration unless
-  // k_override >= 0, Euler with pins -> x_{t+1} (n, 3) float.
+  // k_override >= 0, Euler with pins -> x_{t+1} (n, 3) in the dtype of state.x.
   torch::Tensor step(const FrameState& state, const GarmentTopology& topology, int64_t k_override = -1);
 
   // Selects the per-edge first-layer form (split = node terms once per node, gathered);
