@@ -62,6 +62,7 @@ int run_cli(int argc, char** argv) {
 
   add_inspect_command(app, global);
   add_generate_command(app, global);
+  add_train_command(app, global);
 
   try {
     app.parse(argc, argv);

@@ -16,6 +16,7 @@ void apply_global_options(const GlobalOptions& options);
 
 void add_inspect_command(CLI::App& app, const GlobalOptions& global);
 void add_generate_command(CLI::App& app, const GlobalOptions& global);
+void add_train_command(CLI::App& app, const GlobalOptions& global);
 
 // Builds the app, parses, runs the chosen subcommand; returns the exit status. Every
 // failure is one line on stderr: "pb4u: error: <file or key>: <reason>".

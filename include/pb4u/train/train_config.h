@@ -1,0 +1,104 @@
+#pragma once
+// `pb4u train` config (configs/train/*.yaml): what to train on, the model, the physics, and
+// the optimisation schedule. Every constant of a run is here, so the effective config saved
+// in the run directory reproduces it.
+#include <string>
+#include <vector>
+
+#include "pb4u/config/config_io.h"
+#include "pb4u/model/model_config.h"
+#include "pb4u/physics/material.h"
+#include "pb4u/physics/physics_config.h"
+#include "pb4u/train/sampling.h"
+
+namespace pb4u {
+
+struct RunConfig {
+  std::string out = "runs/quick";  // run directory: checkpoints/, metrics.jsonl, config.yaml
+  int seed = 0;
+  int steps = 2000;
+  int checkpoint_every = 100;
+  int keep_checkpoints = 3;
+  std::string device = "cpu";      // cpu | cuda
+  int threads = 0;                 // torch intra-op threads, 0 = all cores (--threads wins)
+
+  template <class V>
+  void visit(V& v) {
+    v("out", out);
+    v("seed", seed, int_at_least(0));
+    v("steps", steps, int_at_least(1));
+    v("checkpoint_every", checkpoint_every, int_at_least(1));
+    v("keep_checkpoints", keep_checkpoints, int_at_least(1));
+    v("device", device, one_of({"cpu", "cuda"}));
+    v("threads", threads, int_at_least(0));
+  }
+};
+
+struct TrainDataConfig {
+  std::string dataset = "data/generated/quick/quick.h5";  // written by `pb4u generate`
+  std::vector<int> levels{1};          // training levels (1-based, as in the dataset)
+  std::vector<std::string> garments;   // template names to train on; empty = all
+  double push_out_gap = 0.004;         // m: LBS frames push penetrating vertices this far out
+
+  template <class V>
+  void visit(V& v) {
+    v("dataset", dataset);
+    v("levels", levels);
+    v("garments", garments);
+    v("push_out_gap", push_out_gap, in_range(0, 0.05));
+  }
+};
+
+struct OptimConfig {
+  double lr = 1e-4;          // Adam learning rate at step 0
+  double lr_final = 1e-5;    // reached at the last step (exponential decay)
+  double grad_clip = 1.0;    // max global gradient norm
+  template <class V>
+  void visit(V& v) {
+    v("lr", lr, positive());
+    v("lr_final", lr_final, positive());
+    v("grad_clip", grad_clip, positive());
+  }
+};
+
+// Rollout length r grows from 1 to rollout_max, by one every steps_per_increase steps; the
+// state is detached between rollout steps.
+struct CurriculumConfig {
+  int rollout_max = 5;
+  int steps_per_increase = 400;
+  template <class V>
+  void visit(V& v) {
+    v("rollout_max", rollout_max, int_at_least(1));
+    v("steps_per_increase", steps_per_increase, int_at_least(1));
+  }
+};
+
+struct TrainConfig {
+  RunConfig run;
+  TrainDataConfig data;
+  ModelConfig model;
+  PhysicsConfig physics;
+  MaterialRanges materials;       // sampled per training sample (SPEC 2)
+  EffectSampling effects;
+  OptimConfig optim;
+  CurriculumConfig curriculum;
+
+  template <class V>
+  void visit(V& v) {
+    v("run", run);
+    v("data", data);
+    v("model", model);
+    v("physics", physics);
+    v("materials", materials);
+    v("effects", effects);
+    v("optim", optim);
+    v("curriculum", curriculum);
+  }
+};
+
+// Learning rate at `step` of `steps`: exponential from lr to lr_final.
+double learning_rate(const OptimConfig& optim, int64_t step, int64_t steps);
+// Rollout length at `step`.
+int rollout_length(const CurriculumConfig& curriculum, int64_t step);
+
+}  // namespace pb4u
