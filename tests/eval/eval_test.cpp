@@ -87,6 +87,11 @@ TEST(ModelFile, ExportLoadsWithIdenticalPredictions) {
   EXPECT_EQ(attrs.at("format_version"), std::to_string(kExportFormatVersion));
   EXPECT_DOUBLE_EQ(std::stod(attrs.at("lbar_base")), ckpt.model->mean_edge_length_base());
   EXPECT_EQ(std::stoll(attrs.at("parameter_count")), parameter_count(*ckpt.model));
+  auto inspect = test::run_pb4u("-q inspect " + out);
+  ASSERT_EQ(inspect.exit_code, 0) << inspect.err;
+  for (const std::string& key : std::vector<std::string>{"method: Pb4U", "parameters: " + attrs.at("parameter_count"), "calibration: Lbar_base",
+                                "k_base: " + std::to_string(ckpt.config.k_base)})
+    EXPECT_NE(inspect.out.find(key), std::string::npos) << key << "\n" << inspect.out;
 
   // One rollout step on a tiny-dataset garment, bit for bit.
   Dataset data = read_dataset(tiny_dataset());
@@ -290,6 +295,21 @@ TEST(Simulate, DivergenceStopsKeepsFramesAndFailsTheCommand) {
   EXPECT_NE(r.err.find("diverged at frame 1"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("vertex"), std::string::npos) << r.err;
   EXPECT_EQ(read_pc2(dir + "/out/garment.pc2").size(), 1u);  // the start frame, kept
+}
+
+TEST(Simulate, ReferenceMethodNeedsNoCheckpointAndHoldsPins) {
+  const std::string out = test::temp_dir("sim_reference");
+  auto r = test::run_pb4u("-q simulate --method reference --scene " + kSource +
+                          "/configs/scenes/hanging_cloth.yaml --set garment.resolution=6 --frames 3 --format none --out " + out);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  auto frames = read_pc2(out + "/garment.pc2");
+  ASSERT_EQ(frames.size(), 4u);
+  // The top row (6 vertices) is pinned; the rest falls.
+  EXPECT_EQ((frames[3].topRows(6) - frames[0].topRows(6)).norm(), 0.0);
+  EXPECT_LT(frames[3].col(1).tail(30).sum(), frames[0].col(1).tail(30).sum());
+  r = test::run_pb4u("-q simulate --scene " + kSource + "/configs/scenes/hanging_cloth.yaml --out " + out);
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("--checkpoint"), std::string::npos) << r.err;
 }
 
 TEST(Scene, SquareClothAndBadScenes) {
