@@ -23,7 +23,7 @@ PB4U_MODEL=data/pretrained/pb4u.h5
 MGN_MODEL=data/pretrained/mgn.h5
 if [ ! -f "$PB4U_MODEL" ] || [ ! -f "$MGN_MODEL" ]; then
   echo "== No shipped models in data/pretrained/: training SHORT demo models instead"
-  echo "   (configs/train/demo.yaml, 600 steps each, a few minutes; far from converged)."
+  echo "   (configs/train/demo.yaml, 400 steps each, a few minutes; far from converged)."
   for kind in pb4u mgn; do
     if [ ! -f "runs/demo_$kind/final.pt" ]; then
       rm -rf "runs/demo_$kind"
