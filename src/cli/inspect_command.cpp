@@ -5,6 +5,7 @@
 #include "pb4u/body/bvh.h"
 #include "pb4u/cli/commands.h"
 #include "pb4u/data/dataset.h"
+#include "pb4u/eval/model_file.h"
 #include "pb4u/io/mesh_io.h"
 #include "pb4u/io/mesh_summary.h"
 
@@ -35,7 +36,8 @@ void add_inspect_command(CLI::App& app, const GlobalOptions& global) {
       "Summarise a file: for a mesh (OBJ, PLY, STL, glTF/GLB, FBX, DAE) its counts, components,\n"
       "boundary loops, manifoldness, degenerate faces, mean edge length and bounding box; for a\n"
       "BVH motion its joints, frames and frame rate; for a dataset (.h5) its levels, bodies,\n"
-      "garments and motions.");
+      "garments and motions; for a model (training checkpoint .pt or `pb4u export` .h5) its\n"
+      "method, parameter count, calibration and config.");
   auto path = std::make_shared<std::string>();
   cmd->add_option("file", *path, "File to summarise")->required();
   cmd->callback([path, &global] {
@@ -45,6 +47,10 @@ void add_inspect_command(CLI::App& app, const GlobalOptions& global) {
       std::ostringstream text;  // nothing printed if reading throws
       print_bvh_summary(text, *path);
       std::cout << "file: " << *path << "\n" << text.str();
+    } else if (ext == ".pt" || ((ext == ".h5" || ext == ".hdf5") && is_model_export(*path))) {
+      const ModelFile model = load_model_file(*path);
+      std::cout << "file: " << *path << "\n";
+      print_model_summary(std::cout, model);
     } else if (ext == ".h5" || ext == ".hdf5") {
       const Dataset data = read_dataset(*path);
       std::cout << "file: " << *path << "\n";

@@ -63,6 +63,9 @@ int run_cli(int argc, char** argv) {
   add_inspect_command(app, global);
   add_generate_command(app, global);
   add_train_command(app, global);
+  add_evaluate_command(app, global);
+  add_simulate_command(app, global);
+  add_export_command(app, global);
 
   try {
     app.parse(argc, argv);

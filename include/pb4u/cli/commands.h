@@ -17,6 +17,9 @@ void apply_global_options(const GlobalOptions& options);
 void add_inspect_command(CLI::App& app, const GlobalOptions& global);
 void add_generate_command(CLI::App& app, const GlobalOptions& global);
 void add_train_command(CLI::App& app, const GlobalOptions& global);
+void add_evaluate_command(CLI::App& app, const GlobalOptions& global);
+void add_simulate_command(CLI::App& app, const GlobalOptions& global);
+void add_export_command(CLI::App& app, const GlobalOptions& global);
 
 // Builds the app, parses, runs the chosen subcommand; returns the exit status. Every
 // failure is one line on stderr: "pb4u: error: <file or key>: <reason>".

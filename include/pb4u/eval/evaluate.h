@@ -1,0 +1,86 @@
+#pragma once
+// `pb4u evaluate` (Table 1): every model (and optionally the reference solver) rolls out the
+// held-out test motions of a dataset from their LBS-initialised first frame, at each
+// resolution level, with full effects and the evaluation material; each active term is
+// averaged over the finite frames and then over sequences.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "pb4u/config/config_io.h"
+#include "pb4u/eval/model_file.h"
+#include "pb4u/physics/energy_report.h"
+#include "pb4u/physics/material.h"
+#include "pb4u/physics/physics_config.h"
+
+namespace pb4u {
+
+struct EvalConfig {
+  std::string dataset = "data/generated/quick/quick.h5";  // written by `pb4u generate`
+  std::vector<int> levels{1, 2, 3, 4};  // 1-based, as in the dataset
+  std::vector<std::string> garments;    // template names; empty = all
+  int max_sequences = 0;   // test motions per garment and body, 0 = all
+  int max_frames = 0;      // frames rolled out per sequence, 0 = the whole motion
+  int start_frame = 1;     // LBS-initialised start (needs the frame before it)
+  double push_out_gap = 0.004;  // m, as in training: LBS frames pushed out of the body
+  std::vector<std::string> effects{"gravity", "collision", "friction"};
+  Material material;       // the evaluation material (SPEC 2 defaults)
+  PhysicsConfig physics;   // evaluation uses the final collision weight
+
+  template <class V>
+  void visit(V& v) {
+    v("dataset", dataset);
+    v("levels", levels);
+    v("garments", garments);
+    v("max_sequences", max_sequences, int_at_least(0));
+    v("max_frames", max_frames, int_at_least(0));
+    v("start_frame", start_frame, int_at_least(1));
+    v("push_out_gap", push_out_gap, in_range(0, 0.05));
+    v("effects", effects);
+    v("material", material);
+    v("physics", physics);
+  }
+};
+
+// One method at one level.
+struct MethodResult {
+  std::string name;
+  int64_t K = 0;                // propagation steps used (0: MGN / reference)
+  std::optional<EnergyReport> mean;  // absent when no frame was finite
+  int sequences = 0, frames = 0;     // finite frames averaged
+  bool diverged = false;
+  int diverged_at_frame = -1;        // earliest, over sequences
+  std::string diverged_sequence;     // "<garment>/<motion>" of that earliest divergence
+  double seconds = 0;                // wall time of the rollouts
+};
+
+struct LevelResult {
+  int level = 0;
+  int64_t triangles = 0, vertices = 0;  // mean over the garments evaluated
+  int64_t K = 0;                        // of the first Pb4U-kind model (0 if none)
+  std::vector<std::string> terms;       // active terms, Table-1 order
+  std::vector<MethodResult> methods;
+};
+
+struct EvalMethod {
+  std::string name;
+  const ModelFile* model = nullptr;  // null: the reference solver
+};
+
+// Method names for `models`: from each config, duplicates suffixed with the file stem;
+// `names` (may be shorter) overrides the first ones.
+std::vector<std::string> method_names(const std::vector<ModelFile>& models,
+                                      const std::vector<std::string>& names);
+
+// Runs the evaluation (progress bar per level). Throws pb4u::Error on bad config / data.
+std::vector<LevelResult> evaluate(const EvalConfig& config, const std::vector<EvalMethod>& methods);
+
+// The paper's layout: per level, rows Stretch ... Friction, Total; one column per method;
+// values as 5.30E-02; the lowest value per row marked with '*'; diverged methods noted.
+std::string format_table(const std::vector<LevelResult>& levels);
+// level,triangles,vertices,method,K,term,value,diverged,diverged_at_frame
+std::string format_csv(const std::vector<LevelResult>& levels);
+// SPEC 7 JSON.
+std::string format_json(const std::vector<LevelResult>& levels);
+
+}  // namespace pb4u

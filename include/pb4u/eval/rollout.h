@@ -1,0 +1,63 @@
+#pragma once
+// A rollout: a garment advanced frame by frame by a stepper (the network or the reference
+// solver) on a prescribed body motion, each frame's active terms measured. Shared by
+// `evaluate` (Table 1) and `simulate`. The physics state is float64; the network steps in its
+// own dtype.
+#include <torch/torch.h>
+
+#include <Eigen/Core>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "pb4u/eval/model_file.h"
+#include "pb4u/graph/garment_topology.h"
+#include "pb4u/physics/body_queries.h"
+#include "pb4u/physics/energy_report.h"
+#include "pb4u/physics/physics_term.h"
+#include "pb4u/scene/effects.h"
+
+namespace pb4u {
+
+struct RolloutInput {
+  TriMesh garment_rest;              // rest shape (m): cloth geometry, topology, Lbar
+  Eigen::MatrixXd x0, x_prev;        // n x 3 m: garment at frame 0 and one frame before
+  std::vector<Eigen::MatrixXd> body; // nb x 3 m per frame, frames 0..steps; empty: no body
+  Eigen::MatrixXi body_faces;        // mb x 3, outward
+  std::vector<int> pinned;           // pinned vertex indices, held at their x0 positions
+  Effects effects;
+  Material material;                 // what the cloth is made of (network input, solver)
+  Material metric_material;          // what the energies are reported under
+  int steps = 0;                     // frames to advance
+  double dt = 1.0 / 30.0;            // s
+};
+
+// Advances one frame: float64 state in, float64 x_{t+1} (n, 3) out.
+using StepFunction = std::function<torch::Tensor(const FrameState& state, const ClothGeometry& cloth,
+                                                 const TermList& terms, const BodyContact* contact)>;
+
+// The network's step (K from its calibration and the garment's Lbar).
+StepFunction network_stepper(const ModelFile& model, const GarmentTopology& topology);
+// The reference solver's step (SPEC 8).
+StepFunction reference_stepper(const ReferenceSolverConfig& solver);
+
+struct RolloutResult {
+  std::vector<EnergyReport> reports;  // one per finite frame 1..
+  bool diverged = false;
+  int diverged_at_frame = -1;         // the first frame with a non-finite position or energy
+  int worst_vertex = -1;              // the vertex that moved most (non-finite first) there
+};
+
+// Called with frame index (1..steps), garment positions (n x 3 m) and the frame's energies.
+using FrameCallback = std::function<void(int frame, const Eigen::MatrixXd& garment, const EnergyReport& report)>;
+
+// Runs the rollout; a non-finite frame stops it (reported, never thrown). Throws pb4u::Error
+// on inconsistent input (sizes, a body missing when the effects need one).
+RolloutResult run_rollout(const RolloutInput& input, const StepFunction& step,
+                          const PhysicsConfig& physics, const FrameCallback& on_frame = {});
+
+// Row-major float64 tensor of an n x 3 matrix, and back.
+torch::Tensor matrix_to_tensor(const Eigen::MatrixXd& m);
+Eigen::MatrixXd tensor_to_matrix(const torch::Tensor& t);
+
+}  // namespace pb4u

@@ -1,0 +1,130 @@
+#pragma once
+// A simulation scene (SPEC 6, configs/scenes/*.yaml): a garment (a built-in template from a
+// generated dataset, a mesh file, or a square cloth), an optional body and motion, a material,
+// pins, effects and a frame count; turned into what a rollout needs.
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "pb4u/config/config_io.h"
+#include "pb4u/mesh/triangle_mesh.h"
+#include "pb4u/physics/material.h"
+#include "pb4u/physics/physics_config.h"
+#include "pb4u/scene/effects.h"
+#include "pb4u/sim/rollout_writer.h"
+
+namespace pb4u {
+
+struct SceneGarment {
+  std::string source = "template";  // template | file | square
+  std::string dataset;              // template: the generated dataset holding it
+  std::string name = "tshirt";      // template: its name
+  int level = 1;                    // template: resolution level (1-based)
+  std::string file;                 // file: a garment mesh (OBJ, PLY, glTF...)
+  int triangles = 0;                // file: remesh to about this many triangles (0: keep)
+  double size = 0.6;                // square: edge length, m
+  int resolution = 20;              // square: vertices per side
+  double height = 1.0;              // square: y of its top edge, m (it hangs in the xy plane)
+
+  template <class V>
+  void visit(V& v) {
+    v("source", source, one_of({"template", "file", "square"}));
+    v("dataset", dataset);
+    v("name", name);
+    v("level", level, int_at_least(1));
+    v("file", file);
+    v("triangles", triangles, int_at_least(0));
+    v("size", size, positive());
+    v("resolution", resolution, int_in_range(2, 1000));
+    v("height", height);
+  }
+};
+
+struct SceneBody {
+  std::string dataset;  // generated dataset holding the body; "" = no body
+  std::string name = "mannequin";
+  // A motion of the dataset by name, "procedural:<kind>" (walk, run, jump, arm_raise,
+  // torso_twist, spin) or a BVH file for the body's skeleton.
+  std::string motion = "procedural:walk";
+  double speed = 1.0, amplitude = 1.0;  // procedural motions
+  double bvh_scale = 1.0;               // BVH file units to metres (as in generate's bvh.scale)
+  double push_out_gap = 0.004;          // m: LBS start frame pushed out of the body
+
+  template <class V>
+  void visit(V& v) {
+    v("dataset", dataset);
+    v("name", name);
+    v("motion", motion);
+    v("speed", speed, positive());
+    v("amplitude", amplitude, non_negative());
+    v("bvh_scale", bvh_scale, positive());
+    v("push_out_gap", push_out_gap, in_range(0, 0.05));
+  }
+};
+
+struct ScenePins {
+  double top_band = 0.0;     // m: pin the vertices within this distance of the highest one
+  std::vector<int> vertices;  // and these
+  template <class V>
+  void visit(V& v) {
+    v("top_band", top_band, non_negative());
+    v("vertices", vertices);
+  }
+};
+
+struct SceneOutputs {
+  std::string mesh_format = "obj";  // obj | ply | none
+  bool point_cache = true, hdf5 = true, energies_csv = true, plot = true;
+  template <class V>
+  void visit(V& v) {
+    v("mesh_format", mesh_format, one_of({"obj", "ply", "none"}));
+    v("point_cache", point_cache);
+    v("hdf5", hdf5);
+    v("energies_csv", energies_csv);
+    v("plot", plot);
+  }
+};
+
+struct SceneConfig {
+  int frames = 60;
+  std::vector<std::string> effects{"gravity", "collision", "friction"};
+  SceneGarment garment;
+  SceneBody body;
+  ScenePins pins;
+  Material material;
+  PhysicsConfig physics;
+  SceneOutputs outputs;
+
+  template <class V>
+  void visit(V& v) {
+    v("frames", frames, int_at_least(1));
+    v("effects", effects);
+    v("garment", garment);
+    v("body", body);
+    v("pins", pins);
+    v("material", material);
+    v("physics", physics);
+    v("outputs", outputs);
+  }
+};
+
+// What a rollout of the scene starts from.
+struct SceneSetup {
+  TriMesh garment;                    // rest shape, m
+  Eigen::MatrixXd x0, x_prev;         // n x 3 m: start state (LBS frame 0 with a body)
+  std::vector<Eigen::MatrixXd> body;  // nb x 3 m per frame 0..frames; empty without a body
+  Eigen::MatrixXi body_faces;
+  std::vector<int> pinned;
+  Effects effects;
+};
+
+// Builds the scene. `scene_path` names errors and anchors relative paths (a path is tried
+// as given, then relative to the scene file). Throws pb4u::Error naming the key on a scene
+// that is inconsistent (e.g. collision without a body, pins without pinned vertices).
+SceneSetup build_scene(const SceneConfig& scene, const std::string& scene_path);
+
+// A square cloth of res x res vertices, `size` m wide, hanging in the xy plane with its top
+// edge at y = height, centred on x = 0; alternating diagonals.
+TriMesh square_cloth(double size, int res, double height);
+
+}  // namespace pb4u

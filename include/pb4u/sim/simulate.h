@@ -1,0 +1,27 @@
+#pragma once
+// `pb4u simulate`: a scene rolled out by the network or the reference solver, every frame
+// written (OBJ/PLY per frame, PC2 caches, HDF5, energies CSV) and a Figure-3-style plot.
+#include <string>
+#include <vector>
+
+#include "pb4u/eval/model_file.h"
+#include "pb4u/sim/scene.h"
+
+namespace pb4u {
+
+struct SimulateResult {
+  int frames = 0;                  // frames written (the start frame 0 included)
+  bool diverged = false;
+  int diverged_at_frame = -1;
+  int worst_vertex = -1;
+  std::vector<std::string> files;  // everything written
+  std::vector<std::string> terms;  // the energies' columns
+};
+
+// Rolls `scene` out into `out_dir` (created if needed). model: null for the reference
+// solver. A divergence stops the rollout and keeps the frames written so far (reported in
+// the result, not thrown). Throws pb4u::Error on a bad scene.
+SimulateResult simulate(const SceneConfig& scene, const std::string& scene_path, const ModelFile* model,
+                        const std::string& out_dir);
+
+}  // namespace pb4u

@@ -1,0 +1,48 @@
+// `pb4u evaluate --checkpoint A [--checkpoint B ...] [--config C] [--format table|csv|json]`:
+// Table 1 of the paper on a dataset's held-out motions.
+#include <CLI/CLI.hpp>
+#include <iostream>
+
+#include "pb4u/cli/commands.h"
+#include "pb4u/eval/evaluate.h"
+#include "pb4u/util/error.h"
+
+namespace pb4u {
+
+void add_evaluate_command(CLI::App& app, const GlobalOptions& global) {
+  auto* cmd = app.add_subcommand(
+      "evaluate",
+      "Roll every model out on the dataset's test motions from their LBS-initialised first\n"
+      "frame, at each level, and print the physics terms per frame (Table 1 layout). A rollout\n"
+      "that goes non-finite is reported as diverged at frame N; averages use finite frames.");
+  struct Args {
+    std::vector<std::string> checkpoints, names, methods, sets;
+    std::string config, format = "table";
+  };
+  auto args = std::make_shared<Args>();
+  cmd->add_option("--checkpoint", args->checkpoints, "Training checkpoint or export (repeatable)");
+  cmd->add_option("--name", args->names, "Column name for the n-th --checkpoint (repeatable)");
+  cmd->add_option("--method", args->methods, "Extra method column: reference (the SPEC 8 solver)")
+      ->check(CLI::IsMember({"reference", "net"}));
+  cmd->add_option("--config,-c", args->config, "Evaluation config (configs/eval/*.yaml)");
+  cmd->add_option("--set", args->sets, "Override a config key, e.g. --set max_frames=10 (repeatable)");
+  cmd->add_option("--format", args->format, "table | csv | json")->check(CLI::IsMember({"table", "csv", "json"}));
+  cmd->callback([args, &global] {
+    apply_global_options(global);
+    const EvalConfig config = load_config<EvalConfig>(args->config, args->sets);
+    std::vector<ModelFile> models;
+    for (const auto& path : args->checkpoints) models.push_back(load_model_file(path));
+    if (args->names.size() > models.size()) throw Error("--name: more names than --checkpoint files");
+    const auto names = method_names(models, args->names);
+    std::vector<EvalMethod> methods;
+    for (size_t i = 0; i < models.size(); ++i) methods.push_back({names[i], &models[i]});
+    for (const auto& m : args->methods)
+      if (m == "reference") methods.push_back({"Reference", nullptr});
+    const auto results = evaluate(config, methods);
+    if (args->format == "json") std::cout << format_json(results);
+    else if (args->format == "csv") std::cout << format_csv(results);
+    else std::cout << format_table(results);
+  });
+}
+
+}  // namespace pb4u

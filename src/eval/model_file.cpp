@@ -1,0 +1,163 @@
+#include "pb4u/eval/model_file.h"
+
+#include <yaml-cpp/yaml.h>
+
+#include <cstring>
+#include <fstream>
+#include <map>
+
+#include "pb4u/io/module_hdf5.h"
+#include "pb4u/train/checkpoint.h"
+#include "pb4u/util/error.h"
+
+namespace pb4u {
+namespace {
+
+bool is_hdf5_file(const std::string& path) {
+  static const char kMagic[8] = {'\x89', 'H', 'D', 'F', '\r', '\n', '\x1a', '\n'};
+  char head[8] = {};
+  std::ifstream in(path, std::ios::binary);
+  return in.read(head, 8) && std::memcmp(head, kMagic, 8) == 0;
+}
+
+// The `model` section of a YAML document (`section_key` empty: the document is the section).
+ModelConfig parse_model_config(const std::string& yaml, const std::string& section_key,
+                               const std::string& path) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(yaml);
+  } catch (const YAML::Exception& e) {
+    fail_file(path, "the stored model config is not valid YAML (" + std::string(e.what()) + ")");
+  }
+  YAML::Node node = section_key.empty() ? root : root[section_key];
+  if (!node || !node.IsMap()) fail_file(path, "no model config stored in the file");
+  ModelConfig config;
+  ConfigReader reader(node, path, section_key.empty() ? "model." : section_key + ".", nullptr);
+  config.visit(reader);
+  reader.finish();
+  validate_model_config(config, path + ": model");
+  return config;
+}
+
+double attribute_number(const std::map<std::string, std::string>& attrs, const std::string& key,
+                        const std::string& path) {
+  auto it = attrs.find(key);
+  if (it == attrs.end()) fail_file(path, "export lacks the '" + key + "' attribute");
+  try {
+    size_t used = 0;
+    double v = std::stod(it->second, &used);
+    if (used != it->second.size()) throw std::invalid_argument(key);
+    return v;
+  } catch (const std::exception&) {
+    fail_file(path, "attribute '" + key + "' is not a number ('" + it->second + "')");
+  }
+}
+
+ModelFile load_export(const std::string& path) {
+  const auto attrs = read_hdf5_attributes(path);
+  auto format = attrs.find("format");
+  if (format == attrs.end() || format->second != kExportFormat)
+    fail_file(path, "not a pb4u model export (no format attribute '" + std::string(kExportFormat) + "')");
+  const double version = attribute_number(attrs, "format_version", path);
+  if (version != double(kExportFormatVersion))
+    fail_file(path, "export format version " + attrs.at("format_version") + " is not supported (expected " +
+                        std::to_string(kExportFormatVersion) + ")");
+  auto yaml = attrs.find("model_config");
+  if (yaml == attrs.end()) fail_file(path, "export lacks the 'model_config' attribute");
+  ModelFile m;
+  m.path = path;
+  m.source = "export";
+  m.config = parse_model_config(yaml->second, "", path);
+  m.config_yaml = config_to_yaml(m.config);
+  m.step = static_cast<int64_t>(attribute_number(attrs, "step", path));
+  m.model = Pb4uNet(m.config);
+  load_module_hdf5(path, *m.model);
+  // The attributes are for readers without pb4u; the buffers are what the model uses. A file
+  // whose two disagree has been edited by hand.
+  const double lbar = attribute_number(attrs, "lbar_base", path);
+  if (std::abs(lbar - m.model->mean_edge_length_base()) > 1e-12 * std::max(1.0, lbar))
+    fail_file(path, "attribute lbar_base disagrees with the stored calibration buffer");
+  return m;
+}
+
+ModelFile load_training_checkpoint(const std::string& path) {
+  const CheckpointMeta meta = read_checkpoint_meta(path);
+  ModelFile m;
+  m.path = path;
+  m.source = "training checkpoint";
+  m.step = meta.step;
+  m.config = parse_model_config(meta.config_yaml, "model", path);
+  m.config_yaml = config_to_yaml(m.config);
+  m.model = Pb4uNet(m.config);
+  load_checkpoint(path, *m.model, nullptr);
+  return m;
+}
+
+}  // namespace
+
+bool is_model_export(const std::string& path) {
+  if (!is_hdf5_file(path)) return false;
+  try {
+    auto attrs = read_hdf5_attributes(path);
+    auto it = attrs.find("format");
+    return it != attrs.end() && it->second == kExportFormat;
+  } catch (const Error&) {
+    return false;
+  }
+}
+
+ModelFile load_model_file(const std::string& path) {
+  if (!std::ifstream(path).good()) fail_file(path, "cannot open the model file");
+  ModelFile m = is_hdf5_file(path) ? load_export(path) : load_training_checkpoint(path);
+  if (!m.model->calibrated()) fail_file(path, "the model was never calibrated (Lbar_base = 0)");
+  m.model->eval();
+  return m;
+}
+
+void export_model_file(const ModelFile& model, const std::string& out) {
+  std::map<std::string, std::string> attrs;
+  auto number = [](double v) {
+    char s[64];
+    std::snprintf(s, sizeof s, "%.17g", v);
+    return std::string(s);
+  };
+  attrs["format"] = kExportFormat;
+  attrs["format_version"] = std::to_string(kExportFormatVersion);
+  attrs["model_config"] = model.config_yaml;
+  attrs["method"] = method_name(model.config);
+  attrs["lbar_base"] = number(model.model->mean_edge_length_base());
+  attrs["propagation_distance"] = number(model.model->propagation_distance());
+  attrs["k_base"] = std::to_string(model.config.k_base);
+  attrs["step"] = std::to_string(model.step);
+  attrs["parameter_count"] = std::to_string(parameter_count(*model.model));
+  attrs["source"] = model.path;
+  save_module_hdf5(out, *model.model, attrs);
+}
+
+std::string method_name(const ModelConfig& config) {
+  if (!config.is_pb4u()) return "MGN";
+  const bool pc = config.propagation_control_on(), us = config.update_scaling_on();
+  if (pc && us) return "Pb4U";
+  if (!pc && !us) return "Pb4U w/o both";
+  return pc ? "Pb4U w/o US" : "Pb4U w/o PC";
+}
+
+int64_t parameter_count(const torch::nn::Module& module) {
+  int64_t n = 0;
+  for (const auto& p : module.parameters()) n += p.numel();
+  return n;
+}
+
+void print_model_summary(std::ostream& out, const ModelFile& m) {
+  out << "kind: model (" << m.source << ")\n";
+  out << "method: " << method_name(m.config) << "\n";
+  out << "step: " << m.step << "\n";
+  out << "parameters: " << parameter_count(*m.model) << "\n";
+  out << "calibration: Lbar_base " << m.model->mean_edge_length_base() << " m, D "
+      << m.model->propagation_distance() << " m, K_base " << m.config.k_base << "\n";
+  out << "model config:\n";
+  std::istringstream lines(m.config_yaml);
+  for (std::string line; std::getline(lines, line);) out << "  " << line << "\n";
+}
+
+}  // namespace pb4u

@@ -1,0 +1,118 @@
+#include "pb4u/eval/rollout.h"
+
+#include <cmath>
+
+#include "pb4u/physics/cloth_geometry.h"
+#include "pb4u/physics/reference_solver.h"
+#include "pb4u/util/error.h"
+
+namespace pb4u {
+
+torch::Tensor matrix_to_tensor(const Eigen::MatrixXd& m) {
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> r = m;
+  return torch::from_blob(r.data(), {r.rows(), r.cols()}, torch::kFloat64).clone();
+}
+
+Eigen::MatrixXd tensor_to_matrix(const torch::Tensor& t) {
+  auto c = t.detach().to(torch::kCPU, torch::kFloat64).contiguous();
+  Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> m(
+      c.data_ptr<double>(), c.size(0), c.size(1));
+  return m;
+}
+
+StepFunction network_stepper(const ModelFile& model, const GarmentTopology& topology) {
+  Pb4uNet net = model.model;
+  return [net, topology](const FrameState& state, const ClothGeometry&, const TermList&,
+                         const BodyContact*) mutable {
+    return net->step(state, topology).to(torch::kFloat64);
+  };
+}
+
+StepFunction reference_stepper(const ReferenceSolverConfig& solver) {
+  return [solver](const FrameState& state, const ClothGeometry& cloth, const TermList& terms,
+                  const BodyContact* contact) {
+    return solve_reference_step(state, cloth, terms, contact, solver).x_next.to(torch::kFloat64);
+  };
+}
+
+namespace {
+
+bool report_finite(const EnergyReport& r) {
+  if (!std::isfinite(r.total)) return false;
+  for (const auto& t : r.terms)
+    if (!std::isfinite(t.second)) return false;
+  return true;
+}
+
+// The vertex that moved most from x to x_next, a non-finite one first.
+int worst_vertex(const torch::Tensor& x, const torch::Tensor& x_next) {
+  auto d = (x_next - x).norm(2, 1);
+  d = torch::where(torch::isfinite(d), d, torch::full_like(d, INFINITY));
+  return static_cast<int>(d.argmax().item<int64_t>());
+}
+
+}  // namespace
+
+RolloutResult run_rollout(const RolloutInput& in, const StepFunction& step,
+                          const PhysicsConfig& physics, const FrameCallback& on_frame) {
+  const int64_t n = in.garment_rest.V.rows();
+  if (in.x0.rows() != n || in.x_prev.rows() != n || in.x0.cols() != 3 || in.x_prev.cols() != 3)
+    throw Error("rollout: initial garment state does not match the rest mesh's " + std::to_string(n) + " vertices");
+  const bool with_body = in.effects.needs_body();
+  if (with_body && int(in.body.size()) < in.steps + 1)
+    throw Error("rollout: the effects need a body but " + std::to_string(in.body.size()) +
+                " body frames were given for " + std::to_string(in.steps) + " steps");
+  ClothGeometry cloth = make_cloth_geometry(in.garment_rest, torch::kFloat64, torch::kCPU, false,
+                                            physics.degenerate_area);
+  TermList terms = build_terms(in.effects, physics);
+
+  FrameState state;
+  state.x = matrix_to_tensor(in.x0);
+  state.x_prev = matrix_to_tensor(in.x_prev);
+  state.effects = in.effects;
+  state.material = in.material;
+  state.dt = in.dt;
+  if (in.effects.pins && !in.pinned.empty()) {
+    state.pinned = torch::zeros({n}, torch::kBool);
+    for (int i : in.pinned) {
+      if (i < 0 || i >= n) throw Error("rollout: pinned vertex " + std::to_string(i) + " out of range");
+      state.pinned[i] = true;
+    }
+    state.pin_targets = state.x.clone();
+  }
+  torch::Tensor body_faces;
+  if (with_body) {
+    Eigen::Matrix<int64_t, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> f = in.body_faces.cast<int64_t>();
+    body_faces = torch::from_blob(f.data(), {f.rows(), f.cols()}, torch::kInt64).clone();
+  }
+
+  RolloutResult result;
+  for (int frame = 1; frame <= in.steps; ++frame) {
+    if (with_body) {
+      state.body.vertices = matrix_to_tensor(in.body[frame - 1]);
+      state.body.next_vertices = matrix_to_tensor(in.body[frame]);
+      state.body.faces = body_faces;
+    }
+    std::optional<BodyContact> contact = body_contact_for(state, physics);
+    torch::Tensor x_next = step(state, cloth, terms, contact ? &*contact : nullptr);
+    bool finite = torch::isfinite(x_next).all().item<bool>();
+    EnergyReport report;
+    if (finite) {
+      report = energy_report(terms, x_next, state, cloth, contact ? &*contact : nullptr, in.metric_material);
+      finite = report_finite(report);
+    }
+    if (!finite) {
+      result.diverged = true;
+      result.diverged_at_frame = frame;
+      result.worst_vertex = worst_vertex(state.x, x_next);
+      break;
+    }
+    result.reports.push_back(report);
+    if (on_frame) on_frame(frame, tensor_to_matrix(x_next), report);
+    state.x_prev = state.x;
+    state.x = x_next;
+  }
+  return result;
+}
+
+}  // namespace pb4u

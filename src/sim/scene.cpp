@@ -1,0 +1,154 @@
+#include "pb4u/sim/scene.h"
+
+#include <filesystem>
+
+#include "pb4u/body/bvh.h"
+#include "pb4u/body/procedural_motion.h"
+#include "pb4u/data/dataset.h"
+#include "pb4u/data/lbs_frame.h"
+#include "pb4u/garment/import_garment.h"
+#include "pb4u/garment/skin_weight_transfer.h"
+#include "pb4u/io/mesh_io.h"
+#include "pb4u/util/error.h"
+
+namespace pb4u {
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string resolve(const std::string& path, const std::string& scene_path) {
+  if (path.empty() || fs::exists(path) || fs::path(path).is_absolute()) return path;
+  fs::path alt = fs::path(scene_path).parent_path() / path;
+  return fs::exists(alt) ? alt.string() : path;
+}
+
+const GarmentLevels* find_garment(const BodyRecord& body, const std::string& name) {
+  for (const auto& g : body.garments)
+    if (g.name == name) return &g;
+  return nullptr;
+}
+
+Motion scene_motion(const SceneBody& sb, const Dataset& data, const Body& body, int frames,
+                    const std::string& where) {
+  const std::string procedural = "procedural:";
+  Motion motion;
+  if (sb.motion.rfind(procedural, 0) == 0) {
+    MotionParams p;
+    p.kind = sb.motion.substr(procedural.size());
+    p.speed = sb.speed;
+    p.amplitude = sb.amplitude;
+    p.frames = frames + 1;
+    motion = procedural_motion(body.skeleton, body.bind, p);
+  } else if (fs::path(sb.motion).extension() == ".bvh") {
+    const std::string path = resolve(sb.motion, where);
+    BvhFile bvh = read_bvh(path, 30.0, sb.bvh_scale);
+    if (bvh.skeleton.names != body.skeleton.names)
+      fail_file(path, "its joints differ from body '" + body.name + "'");
+    motion = std::move(bvh.motion);
+  } else {
+    for (const auto& m : data.motions)
+      if (m.name == sb.motion && m.body == body.name) motion = m.motion;
+    if (motion.frames.empty())
+      throw Error(where + ": body.motion: no motion '" + sb.motion + "' for body '" + body.name +
+                  "' in the dataset (or use procedural:<kind> or a .bvh file)");
+  }
+  if (motion.frames.empty()) throw Error(where + ": body.motion: the motion has no frames");
+  return motion;
+}
+
+}  // namespace
+
+TriMesh square_cloth(double size, int res, double height) {
+  TriMesh m;
+  m.V.resize(res * res, 3);
+  const double h = size / (res - 1);
+  for (int r = 0; r < res; ++r)
+    for (int c = 0; c < res; ++c) m.V.row(r * res + c) << -size / 2 + c * h, height - r * h, 0.0;
+  m.F.resize(2 * (res - 1) * (res - 1), 3);
+  int f = 0;
+  for (int r = 0; r + 1 < res; ++r)
+    for (int c = 0; c + 1 < res; ++c) {
+      const int a = r * res + c, b = a + 1, d = a + res, e = d + 1;
+      if ((r + c) % 2 == 0) {
+        m.F.row(f++) << a, d, b;
+        m.F.row(f++) << b, d, e;
+      } else {
+        m.F.row(f++) << a, d, e;
+        m.F.row(f++) << a, e, b;
+      }
+    }
+  return m;
+}
+
+SceneSetup build_scene(const SceneConfig& scene, const std::string& where) {
+  SceneSetup s;
+  s.effects = Effects::from_names(scene.effects, where + ": effects");
+  const bool has_body = !scene.body.dataset.empty();
+  if (s.effects.needs_body() && !has_body)
+    throw Error(where + ": effects: collision/friction need a body, and body.dataset is empty");
+
+  Dataset data;
+  const BodyRecord* record = nullptr;
+  const bool need_dataset = has_body || scene.garment.source == "template";
+  if (need_dataset) {
+    const std::string path = resolve(has_body ? scene.body.dataset : scene.garment.dataset, where);
+    if (path.empty()) throw Error(where + ": garment.dataset: a template garment needs a generated dataset");
+    data = read_dataset(path);
+    record = data.find_body(scene.body.name);
+    if (!record) throw Error(where + ": body.name: no body '" + scene.body.name + "' in " + path);
+  }
+
+  Garment garment;
+  const SceneGarment& g = scene.garment;
+  if (g.source == "template") {
+    const GarmentLevels* levels = find_garment(*record, g.name);
+    if (!levels) throw Error(where + ": garment.name: no garment '" + g.name + "' on body '" + record->body.name + "'");
+    if (g.level > int(levels->levels.size()))
+      throw Error(where + ": garment.level: " + std::to_string(g.level) + " but the dataset has " +
+                  std::to_string(levels->levels.size()) + " levels");
+    garment = levels->levels[g.level - 1];
+  } else if (g.source == "file") {
+    if (g.file.empty()) throw Error(where + ": garment.file: required for source file");
+    const std::string path = resolve(g.file, where);
+    garment.name = fs::path(path).stem().string();
+    garment.mesh = g.triangles > 0 ? import_garment(path, g.triangles) : read_mesh(path);
+    if (has_body) garment.weights = transfer_skin_weights(garment.mesh.V, record->body);
+  } else {
+    garment.name = "square";
+    garment.mesh = square_cloth(g.size, g.resolution, g.height);
+  }
+  s.garment = garment.mesh;
+  s.x0 = s.x_prev = garment.mesh.V;
+
+  if (has_body) {
+    const Body& body = record->body;
+    Motion motion = scene_motion(scene.body, data, body, scene.frames, where);
+    if (garment.weights.rows() == garment.mesh.V.rows()) {
+      LbsFrame f0 = lbs_frame(body, garment, motion, 0, scene.body.push_out_gap);
+      s.x0 = f0.garment;
+      s.x_prev = f0.garment_prev;
+    }
+    s.body_faces = body.mesh.F;
+    // A motion shorter than the scene holds its last pose.
+    for (int t = 0; t <= scene.frames; ++t)
+      s.body.push_back(pose_body(body, motion.frames[std::min(t, motion.num_frames() - 1)]));
+  }
+
+  if (scene.pins.top_band > 0) {
+    const double top = s.x0.col(1).maxCoeff();
+    for (int i = 0; i < s.x0.rows(); ++i)
+      if (s.x0(i, 1) >= top - scene.pins.top_band) s.pinned.push_back(i);
+  }
+  for (int i : scene.pins.vertices) {
+    if (i < 0 || i >= s.x0.rows())
+      throw Error(where + ": pins.vertices: " + std::to_string(i) + " is not a vertex (the garment has " +
+                  std::to_string(s.x0.rows()) + ")");
+    s.pinned.push_back(i);
+  }
+  if (s.effects.pins && s.pinned.empty())
+    throw Error(where + ": pins: effect 'pins' is on but no vertex is pinned (set pins.top_band or pins.vertices)");
+  if (!s.effects.pins) s.pinned.clear();
+  return s;
+}
+
+}  // namespace pb4u

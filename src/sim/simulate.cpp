@@ -1,0 +1,102 @@
+#include "pb4u/sim/simulate.h"
+
+#include <spdlog/spdlog.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <limits>
+
+#include "pb4u/eval/rollout.h"
+#include "pb4u/util/atomic_file.h"
+#include "pb4u/util/progress.h"
+
+namespace pb4u {
+namespace fs = std::filesystem;
+
+namespace {
+
+// Figure 3: log energies vs time, by scripts/plot_energies.py when a Python is there.
+void plot_energies(const std::string& csv, const std::string& png, std::vector<std::string>* files) {
+  const std::string python = "/usr/bin/python3";
+  const std::string script = std::string(PB4U_SOURCE_DIR) + "/scripts/plot_energies.py";
+  if (!fs::exists(python) || !fs::exists(script)) {
+    spdlog::warn("no {} or {}: skipping the energy plot", python, script);
+    return;
+  }
+  const std::string cmd = python + " '" + script + "' '" + csv + "' '" + png + "' > /dev/null 2>&1";
+  if (std::system(cmd.c_str()) != 0 || !fs::exists(png)) {
+    spdlog::warn("plot_energies.py failed (matplotlib missing?): no {}", png);
+    return;
+  }
+  files->push_back(png);
+}
+
+}  // namespace
+
+SimulateResult simulate(const SceneConfig& scene, const std::string& scene_path, const ModelFile* model,
+                        const std::string& out_dir) {
+  SceneSetup setup = build_scene(scene, scene_path);
+  ensure_output_dir(out_dir);
+  RolloutOutputs outputs;
+  outputs.mesh_format = scene.outputs.mesh_format;
+  outputs.point_cache = scene.outputs.point_cache;
+  outputs.hdf5 = scene.outputs.hdf5;
+  outputs.energies_csv = scene.outputs.energies_csv;
+  const bool body_written = !setup.body.empty();
+  RolloutWriter writer(out_dir, setup.garment.F, body_written ? setup.body_faces : Eigen::MatrixXi(), outputs);
+
+  RolloutInput in;
+  in.garment_rest = setup.garment;
+  in.x0 = setup.x0;
+  in.x_prev = setup.x_prev;
+  in.body = setup.body;
+  in.body_faces = setup.body_faces;
+  in.pinned = setup.pinned;
+  in.effects = setup.effects;
+  in.material = scene.material;
+  in.metric_material = scene.material;
+  in.steps = scene.frames;
+
+  GarmentTopology topology;
+  StepFunction step;
+  if (model) {
+    topology = build_garment_topology(setup.garment, "garment");
+    step = network_stepper(*model, topology);
+  } else {
+    step = reference_stepper(scene.physics.solver);
+  }
+  std::vector<std::string> terms;
+  for (const auto& t : build_terms(setup.effects, scene.physics)) terms.push_back(t->name());
+
+  // Frame 0 is the start state, which no step produced: its energies are "nan" (not computed).
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  std::vector<std::pair<std::string, double>> zero;
+  for (const auto& t : terms) zero.emplace_back(t, nan);
+  zero.emplace_back("total", nan);
+  const Eigen::MatrixXd none;
+  writer.add_frame(setup.x0, body_written ? setup.body[0] : none, zero);
+
+  Progress bar("simulate", scene.frames, "frame");
+  RolloutResult r = run_rollout(in, step, scene.physics,
+                                [&](int frame, const Eigen::MatrixXd& x, const EnergyReport& report) {
+                                  auto row = report.terms;
+                                  row.emplace_back("total", report.total);
+                                  writer.add_frame(x, body_written ? setup.body[frame] : none, row);
+                                  char status[48];
+                                  std::snprintf(status, sizeof status, "total %.3e J", report.total);
+                                  bar.step(1, status);
+                                });
+  bar.finish();
+  SimulateResult result;
+  result.terms = terms;
+  result.files = writer.finish();
+  result.frames = writer.num_frames();
+  result.diverged = r.diverged;
+  result.diverged_at_frame = r.diverged_at_frame;
+  result.worst_vertex = r.worst_vertex;
+  if (scene.outputs.plot && scene.outputs.energies_csv && writer.num_frames() > 1)
+    plot_energies(out_dir + "/energies.csv", out_dir + "/energies.png", &result.files);
+  return result;
+}
+
+}  // namespace pb4u

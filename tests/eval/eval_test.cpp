@@ -1,0 +1,337 @@
+// Evaluation, export and simulation on the tiny dataset with a model trained for a few
+// steps: export -> load gives identical predictions, evaluate reports every active term
+// and survives a diverging model, simulate writes every frame in every format, a body-less
+// scene has no collision or friction, and corrupt or mismatched model files fail cleanly.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <sstream>
+
+#include "pb4u/data/dataset.h"
+#include "pb4u/eval/evaluate.h"
+#include "pb4u/eval/model_file.h"
+#include "pb4u/eval/rollout.h"
+#include "pb4u/io/module_hdf5.h"
+#include "pb4u/mesh/topology.h"
+#include "pb4u/physics/body_queries.h"
+#include "pb4u/sim/point_cache.h"
+#include "pb4u/sim/simulate.h"
+#include "pb4u/train/trainer.h"
+#include "pb4u/train/training_data.h"
+#include "pb4u/util/error.h"
+#include "pb4u/util/runtime.h"
+#include "test_util.h"
+
+namespace pb4u {
+namespace {
+namespace fs = std::filesystem;
+
+const std::string kSource = PB4U_SOURCE_DIR;
+
+const std::string& tiny_dataset() {
+  static const std::string path = [] {
+    std::string dir = test::temp_dir("eval_tinydata");
+    auto r = test::run_pb4u("-q generate --config " + kSource + "/configs/data/tiny.yaml --out " + dir);
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    return dir + "/tiny.h5";
+  }();
+  return path;
+}
+
+// A model trained for a few steps (its weights are what matters here, not its quality).
+const std::string& tiny_checkpoint() {
+  static const std::string path = [] {
+    configure_threads(1);
+    const std::string out = test::temp_dir("eval_tinyrun");
+    TrainConfig c = load_config<TrainConfig>(kSource + "/configs/train/tiny.yaml",
+                                             {"data.dataset=" + tiny_dataset(), "run.out=" + out,
+                                              "run.steps=12", "run.checkpoint_every=12"});
+    Trainer trainer(c, config_to_yaml(c), load_training_data(c.data), false);
+    trainer.run();
+    return out + "/final.pt";
+  }();
+  return path;
+}
+
+EvalConfig tiny_eval(std::vector<std::string> sets = {}) {
+  sets.push_back("dataset=" + tiny_dataset());
+  return load_config<EvalConfig>(kSource + "/configs/eval/tiny.yaml", sets);
+}
+
+// The same model with a NaN in its decoder: every step is non-finite.
+ModelFile poisoned(const ModelFile& m) {
+  ModelFile bad = load_model_file(m.path);
+  torch::NoGradGuard guard;
+  for (auto& p : bad.model->decoder->named_parameters())
+    if (p.key().find("bias") != std::string::npos) p.value().fill_(std::numeric_limits<float>::quiet_NaN());
+  return bad;
+}
+
+TEST(ModelFile, ExportLoadsWithIdenticalPredictions) {
+  ModelFile ckpt = load_model_file(tiny_checkpoint());
+  EXPECT_EQ(ckpt.source, "training checkpoint");
+  const std::string out = test::temp_dir("export") + "/model.h5";
+  export_model_file(ckpt, out);
+  ModelFile exported = load_model_file(out);
+  EXPECT_EQ(exported.source, "export");
+  EXPECT_EQ(exported.step, ckpt.step);
+  EXPECT_EQ(exported.config_yaml, ckpt.config_yaml);
+  EXPECT_DOUBLE_EQ(exported.model->mean_edge_length_base(), ckpt.model->mean_edge_length_base());
+  EXPECT_DOUBLE_EQ(exported.model->propagation_distance(), ckpt.model->propagation_distance());
+
+  // The portable attributes a reader without pb4u sees.
+  auto attrs = read_hdf5_attributes(out);
+  EXPECT_EQ(attrs.at("format"), kExportFormat);
+  EXPECT_EQ(attrs.at("format_version"), std::to_string(kExportFormatVersion));
+  EXPECT_DOUBLE_EQ(std::stod(attrs.at("lbar_base")), ckpt.model->mean_edge_length_base());
+  EXPECT_EQ(std::stoll(attrs.at("parameter_count")), parameter_count(*ckpt.model));
+  auto inspect = test::run_pb4u("-q inspect " + out);
+  ASSERT_EQ(inspect.exit_code, 0) << inspect.err;
+  for (const std::string& key : std::vector<std::string>{"method: Pb4U", "parameters: " + attrs.at("parameter_count"), "calibration: Lbar_base",
+                                "k_base: " + std::to_string(ckpt.config.k_base)})
+    EXPECT_NE(inspect.out.find(key), std::string::npos) << key << "\n" << inspect.out;
+
+  // One rollout step on a tiny-dataset garment, bit for bit.
+  Dataset data = read_dataset(tiny_dataset());
+  const Garment& g = data.bodies[0].garments[0].levels[0];
+  GarmentTopology topology = build_garment_topology(g.mesh);
+  FrameState state;
+  state.x = matrix_to_tensor(g.mesh.V);
+  state.x_prev = state.x - 0.001;
+  state.effects = Effects::from_names({"gravity"}, "test");
+  torch::Tensor a = ckpt.model->step(state, topology), b = exported.model->step(state, topology);
+  EXPECT_TRUE(torch::equal(a, b));
+  EXPECT_GT((a - state.x).abs().max().item<double>(), 0.0);  // the step did move the cloth
+}
+
+TEST(ModelFile, CorruptOrMismatchedFilesFailNamingTheFile) {
+  const ModelFile ckpt = load_model_file(tiny_checkpoint());
+  const std::string dir = test::temp_dir("badmodel");
+  const std::string good = dir + "/good.h5";
+  export_model_file(ckpt, good);
+
+  // Truncated export.
+  std::string bytes = test::read_file(good);
+  test::write_file(dir + "/truncated.h5", bytes.substr(0, bytes.size() / 2));
+  // A model of another width: same format, shapes disagree with the stored config.
+  ModelConfig wide = ckpt.config;
+  wide.latent = ckpt.config.latent * 2;
+  ModelFile other{Pb4uNet(wide), wide, config_to_yaml(wide), "x", "export", 0};
+  other.model->calibrate(0.05);
+  export_model_file(other, dir + "/wide.h5");
+  {
+    // Swap in the narrow config: the datasets no longer fit it.
+    std::map<std::string, std::string> attrs = read_hdf5_attributes(dir + "/wide.h5");
+    attrs["model_config"] = ckpt.config_yaml;
+    save_module_hdf5(dir + "/mismatched.h5", *other.model, attrs);
+    attrs = read_hdf5_attributes(good);
+    attrs["format_version"] = "99";
+    save_module_hdf5(dir + "/future.h5", *ckpt.model, attrs);
+  }
+  test::write_file(dir + "/garbage.pt", "not a checkpoint at all");
+
+  for (const char* name : {"truncated.h5", "mismatched.h5", "future.h5", "garbage.pt", "missing.pt"}) {
+    const std::string path = dir + "/" + name;
+    try {
+      load_model_file(path);
+      ADD_FAILURE() << name << " loaded";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+    }
+    auto r = test::run_pb4u("-q export --checkpoint " + path + " --out " + dir + "/out.h5");
+    EXPECT_NE(r.exit_code, 0) << name;
+    EXPECT_NE(r.err.find(name), std::string::npos) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_FALSE(fs::exists(dir + "/out.h5"));
+  }
+}
+
+TEST(MethodName, FollowsTheModelConfig) {
+  ModelConfig c;
+  EXPECT_EQ(method_name(c), "Pb4U");
+  c.update_scaling = "off";
+  EXPECT_EQ(method_name(c), "Pb4U w/o US");
+  c.propagation_control = "off";
+  EXPECT_EQ(method_name(c), "Pb4U w/o both");
+  c.update_scaling = "on";
+  EXPECT_EQ(method_name(c), "Pb4U w/o PC");
+  c.kind = "mgn";
+  EXPECT_EQ(method_name(c), "MGN");
+}
+
+TEST(Evaluate, JsonHasEveryActiveTermPerLevelAndMethod) {
+  const std::string ckpt = tiny_checkpoint();
+  const std::string exported = test::temp_dir("eval_json") + "/m.h5";
+  ASSERT_EQ(test::run_pb4u("-q export --checkpoint " + ckpt + " --out " + exported).exit_code, 0);
+  auto r = test::run_pb4u("-q evaluate --checkpoint " + ckpt + " --checkpoint " + exported + " --config " + kSource +
+                          "/configs/eval/tiny.yaml --set dataset=" + tiny_dataset() + " --format json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  // Two methods named from their configs, disambiguated by file stem.
+  EXPECT_NE(r.out.find("\"Pb4U (final)\""), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("\"Pb4U (m)\""), std::string::npos) << r.out;
+  for (const char* key : {"\"level\": 1", "\"level\": 3", "\"stretch\": ", "\"bending\": ", "\"collision\": ",
+                          "\"inertia\": ", "\"gravity\": ", "\"friction\": ", "\"total\": ",
+                          "\"diverged\": false", "\"diverged_at_frame\": null"})
+    EXPECT_NE(r.out.find(key), std::string::npos) << key;
+  EXPECT_EQ(r.out.find("null,"), std::string::npos) << "a term without a value: " << r.out;
+  EXPECT_EQ(r.out.find("nan"), std::string::npos);
+
+  // The table: one row per term and the total; the export equals the checkpoint in every cell.
+  r = test::run_pb4u("-q evaluate --checkpoint " + ckpt + " --checkpoint " + exported + " --config " + kSource +
+                     "/configs/eval/tiny.yaml --set dataset=" + tiny_dataset() + " --set levels=[1]");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::istringstream lines(r.out);
+  int rows = 0;
+  for (std::string line; std::getline(lines, line);) {
+    std::istringstream cells(line);
+    std::string label, a, b;
+    cells >> label >> a >> b;
+    for (const char* term : {"Stretch", "Bending", "Collision", "Inertia", "Gravity", "Friction", "Total"})
+      if (label == term) {
+        ++rows;
+        EXPECT_EQ(a, b) << line;
+        EXPECT_NE(a.find("E"), std::string::npos) << line;  // 5.30E-02 style
+      }
+  }
+  EXPECT_EQ(rows, 7) << r.out;
+}
+
+TEST(Evaluate, WithoutGravityTheTermIsAbsent) {
+  const ModelFile m = load_model_file(tiny_checkpoint());
+  auto levels = evaluate(tiny_eval({"effects=[collision, friction]", "levels=[1]", "max_frames=2"}), {{"Pb4U", &m}});
+  ASSERT_EQ(levels.size(), 1u);
+  ASSERT_TRUE(levels[0].methods[0].mean);
+  EXPECT_FALSE(levels[0].methods[0].mean->has("gravity"));
+  EXPECT_TRUE(levels[0].methods[0].mean->has("collision"));
+  EXPECT_EQ(format_json(levels).find("gravity"), std::string::npos);
+}
+
+TEST(Evaluate, ADivergingModelIsReportedNotCrashed) {
+  const ModelFile good = load_model_file(tiny_checkpoint());
+  const ModelFile bad = poisoned(good);
+  auto levels = evaluate(tiny_eval({"levels=[1]"}), {{"Pb4U", &good}, {"Broken", &bad}});
+  const MethodResult& ok = levels[0].methods[0];
+  const MethodResult& broken = levels[0].methods[1];
+  EXPECT_FALSE(ok.diverged);
+  EXPECT_TRUE(broken.diverged);
+  EXPECT_EQ(broken.diverged_at_frame, 1);
+  EXPECT_FALSE(broken.mean);
+  EXPECT_EQ(broken.frames, 0);
+  const std::string json = format_json(levels), table = format_table(levels);
+  EXPECT_NE(json.find("\"diverged\": true, \"diverged_at_frame\": 1"), std::string::npos) << json;
+  EXPECT_EQ(json.find("nan"), std::string::npos) << json;
+  EXPECT_EQ(table.find("nan"), std::string::npos) << table;
+  EXPECT_NE(table.find("Broken: diverged at frame 1"), std::string::npos) << table;
+}
+
+SceneConfig hanging_scene(int frames) {
+  return load_config<SceneConfig>(kSource + "/configs/scenes/hanging_cloth.yaml",
+                                  {"frames=" + std::to_string(frames), "garment.resolution=8"});
+}
+
+TEST(Simulate, WritesEveryFrameInEveryFormat) {
+  const ModelFile m = load_model_file(tiny_checkpoint());
+  for (const char* format : {"obj", "ply"}) {
+    const std::string out = test::temp_dir(std::string("sim_") + format);
+    SceneConfig scene = hanging_scene(5);
+    scene.outputs.mesh_format = format;
+    scene.outputs.plot = false;
+    SimulateResult r = simulate(scene, "hanging_cloth.yaml", &m, out);
+    EXPECT_FALSE(r.diverged);
+    EXPECT_EQ(r.frames, 6);  // the start frame and 5 steps
+    for (int f = 0; f < 6; ++f) EXPECT_TRUE(fs::exists(frame_file(out, "garment", f, format))) << f;
+    EXPECT_FALSE(fs::exists(frame_file(out, "garment", 6, format)));
+    EXPECT_FALSE(fs::exists(frame_file(out, "body", 0, format)));  // no body in the scene
+    auto cache = read_pc2(out + "/garment.pc2");
+    ASSERT_EQ(cache.size(), 6u);
+    EXPECT_EQ(cache[0].rows(), 64);
+    EXPECT_TRUE(fs::exists(out + "/rollout.h5"));
+    std::ifstream csv(out + "/energies.csv");
+    std::string header;
+    std::getline(csv, header);
+    int lines = 0;
+    for (std::string l; std::getline(csv, l);) ++lines;
+    EXPECT_EQ(lines, 6);
+    // A scene without a body has no collision or friction column.
+    EXPECT_EQ(header, "frame,stretch,bending,inertia,gravity,total");
+  }
+}
+
+TEST(Simulate, BodylessSceneBuildsNoBodyQueriesAndPinsHold) {
+  const ModelFile m = load_model_file(tiny_checkpoint());
+  const int64_t trees = body_kd_trees_built();
+  SceneConfig scene = hanging_scene(4);
+  SceneSetup setup = build_scene(scene, "hanging_cloth.yaml");
+  ASSERT_EQ(setup.pinned.size(), 8u);  // the top row of an 8 x 8 cloth
+  RolloutInput in;
+  in.garment_rest = setup.garment;
+  in.x0 = in.x_prev = setup.x0;
+  in.pinned = setup.pinned;
+  in.effects = setup.effects;
+  in.steps = 4;
+  GarmentTopology topology = build_garment_topology(setup.garment);
+  Eigen::MatrixXd last;
+  RolloutResult r = run_rollout(in, network_stepper(m, topology), scene.physics,
+                                [&](int, const Eigen::MatrixXd& x, const EnergyReport& report) {
+                                  last = x;
+                                  EXPECT_FALSE(report.has("collision"));
+                                  EXPECT_FALSE(report.has("friction"));
+                                });
+  EXPECT_EQ(body_kd_trees_built(), trees);
+  ASSERT_EQ(r.reports.size(), 4u);
+  for (int i : setup.pinned) EXPECT_EQ((last.row(i) - setup.x0.row(i)).norm(), 0.0) << i;
+  EXPECT_GT((last - setup.x0).norm(), 0.0);
+}
+
+TEST(Simulate, DivergenceStopsKeepsFramesAndFailsTheCommand) {
+  const ModelFile bad = poisoned(load_model_file(tiny_checkpoint()));
+  const std::string dir = test::temp_dir("sim_diverge");
+  export_model_file(bad, dir + "/bad.h5");
+  auto r = test::run_pb4u("-q simulate --checkpoint " + dir + "/bad.h5 --scene " + kSource +
+                          "/configs/scenes/hanging_cloth.yaml --frames 5 --out " + dir + "/out");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("diverged at frame 1"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("vertex"), std::string::npos) << r.err;
+  EXPECT_EQ(read_pc2(dir + "/out/garment.pc2").size(), 1u);  // the start frame, kept
+}
+
+TEST(Simulate, ReferenceMethodNeedsNoCheckpointAndHoldsPins) {
+  const std::string out = test::temp_dir("sim_reference");
+  auto r = test::run_pb4u("-q simulate --method reference --scene " + kSource +
+                          "/configs/scenes/hanging_cloth.yaml --set garment.resolution=6 --frames 3 --format none --out " + out);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  auto frames = read_pc2(out + "/garment.pc2");
+  ASSERT_EQ(frames.size(), 4u);
+  // The top row (6 vertices) is pinned; the rest falls.
+  EXPECT_EQ((frames[3].topRows(6) - frames[0].topRows(6)).norm(), 0.0);
+  EXPECT_LT(frames[3].col(1).tail(30).sum(), frames[0].col(1).tail(30).sum());
+  r = test::run_pb4u("-q simulate --scene " + kSource + "/configs/scenes/hanging_cloth.yaml --out " + out);
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("--checkpoint"), std::string::npos) << r.err;
+}
+
+TEST(Scene, SquareClothAndBadScenes) {
+  TriMesh cloth = square_cloth(0.5, 5, 1.0);
+  EXPECT_EQ(cloth.V.rows(), 25);
+  EXPECT_EQ(cloth.F.rows(), 32);
+  EXPECT_DOUBLE_EQ(cloth.V.col(1).maxCoeff(), 1.0);
+  EXPECT_NEAR(cloth.V.col(0).maxCoeff() - cloth.V.col(0).minCoeff(), 0.5, 1e-12);
+  EXPECT_EQ(boundary_loops(cloth.F).size(), 1u);
+
+  SceneConfig s = hanging_scene(2);
+  s.effects = {"gravity", "collision"};
+  EXPECT_THROW(build_scene(s, "scene.yaml"), Error);  // collision without a body
+  s = hanging_scene(2);
+  s.pins.top_band = 0;
+  EXPECT_THROW(build_scene(s, "scene.yaml"), Error);  // pins effect, nothing pinned
+  const std::string dir = test::temp_dir("badscene");
+  test::write_file(dir + "/s.yaml", "frames: 3\ngarmnet: {source: square}\n");
+  auto r = test::run_pb4u("-q simulate --method reference --scene " + dir + "/s.yaml --out " + dir + "/o");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("garmnet"), std::string::npos) << r.err;
+}
+
+}  // namespace
+}  // namespace pb4u
