@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <stdexcept>
 
 namespace pb4u::test {
 namespace fs = std::filesystem;
@@ -43,6 +44,17 @@ CommandResult run_pb4u(const std::string& args) {
   r.err = read_file(err);
   fs::remove_all(dir);
   return r;
+}
+
+const std::string& tiny_dataset() {
+  static const std::string path = [] {
+    std::string dir = temp_dir("tinydata");
+    CommandResult r = run_pb4u("-q generate --config " + std::string(PB4U_SOURCE_DIR) +
+                               "/configs/data/tiny.yaml --out " + dir);
+    if (r.exit_code != 0) throw std::runtime_error("tiny dataset: " + r.err);
+    return dir + "/tiny.h5";
+  }();
+  return path;
 }
 
 TriMesh grid_mesh(int n, double size) {

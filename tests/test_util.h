@@ -20,6 +20,10 @@ struct CommandResult {
 // Runs the pb4u binary with `args` (shell-quoted by the caller) and captures its streams.
 CommandResult run_pb4u(const std::string& args);
 
+// configs/data/tiny.yaml generated with the real `pb4u generate`, once per test process;
+// returns the dataset file.
+const std::string& tiny_dataset();
+
 // An n x n grid of unit squares split into 2 n^2 triangles, in the xz plane at y = 0.
 TriMesh grid_mesh(int n, double size = 1.0);
 

@@ -30,23 +30,13 @@ namespace fs = std::filesystem;
 
 const std::string kSource = PB4U_SOURCE_DIR;
 
-const std::string& tiny_dataset() {
-  static const std::string path = [] {
-    std::string dir = test::temp_dir("eval_tinydata");
-    auto r = test::run_pb4u("-q generate --config " + kSource + "/configs/data/tiny.yaml --out " + dir);
-    EXPECT_EQ(r.exit_code, 0) << r.err;
-    return dir + "/tiny.h5";
-  }();
-  return path;
-}
-
 // A model trained for a few steps (its weights are what matters here, not its quality).
 const std::string& tiny_checkpoint() {
   static const std::string path = [] {
     configure_threads(1);
     const std::string out = test::temp_dir("eval_tinyrun");
     TrainConfig c = load_config<TrainConfig>(kSource + "/configs/train/tiny.yaml",
-                                             {"data.dataset=" + tiny_dataset(), "run.out=" + out,
+                                             {"data.dataset=" + test::tiny_dataset(), "run.out=" + out,
                                               "run.steps=12", "run.checkpoint_every=12"});
     Trainer trainer(c, config_to_yaml(c), load_training_data(c.data), false);
     trainer.run();
@@ -56,7 +46,7 @@ const std::string& tiny_checkpoint() {
 }
 
 EvalConfig tiny_eval(std::vector<std::string> sets = {}) {
-  sets.push_back("dataset=" + tiny_dataset());
+  sets.push_back("dataset=" + test::tiny_dataset());
   return load_config<EvalConfig>(kSource + "/configs/eval/tiny.yaml", sets);
 }
 
@@ -94,7 +84,7 @@ TEST(ModelFile, ExportLoadsWithIdenticalPredictions) {
     EXPECT_NE(inspect.out.find(key), std::string::npos) << key << "\n" << inspect.out;
 
   // One rollout step on a tiny-dataset garment, bit for bit.
-  Dataset data = read_dataset(tiny_dataset());
+  Dataset data = read_dataset(test::tiny_dataset());
   const Garment& g = data.bodies[0].garments[0].levels[0];
   GarmentTopology topology = build_garment_topology(g.mesh);
   FrameState state;
@@ -166,7 +156,7 @@ TEST(Evaluate, JsonHasEveryActiveTermPerLevelAndMethod) {
   const std::string exported = test::temp_dir("eval_json") + "/m.h5";
   ASSERT_EQ(test::run_pb4u("-q export --checkpoint " + ckpt + " --out " + exported).exit_code, 0);
   auto r = test::run_pb4u("-q evaluate --checkpoint " + ckpt + " --checkpoint " + exported + " --config " + kSource +
-                          "/configs/eval/tiny.yaml --set dataset=" + tiny_dataset() + " --format json");
+                          "/configs/eval/tiny.yaml --set dataset=" + test::tiny_dataset() + " --format json");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   // Two methods named from their configs, disambiguated by file stem.
   EXPECT_NE(r.out.find("\"Pb4U (final)\""), std::string::npos) << r.out;
@@ -180,7 +170,7 @@ TEST(Evaluate, JsonHasEveryActiveTermPerLevelAndMethod) {
 
   // The table: one row per term and the total; the export equals the checkpoint in every cell.
   r = test::run_pb4u("-q evaluate --checkpoint " + ckpt + " --checkpoint " + exported + " --config " + kSource +
-                     "/configs/eval/tiny.yaml --set dataset=" + tiny_dataset() + " --set levels=[1]");
+                     "/configs/eval/tiny.yaml --set dataset=" + test::tiny_dataset() + " --set levels=[1]");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   std::istringstream lines(r.out);
   int rows = 0;

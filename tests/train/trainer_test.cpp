@@ -25,19 +25,8 @@ namespace fs = std::filesystem;
 
 const std::string kSource = PB4U_SOURCE_DIR;
 
-// The tiny dataset, generated once per test process with the real command.
-const std::string& tiny_dataset() {
-  static const std::string path = [] {
-    std::string dir = test::temp_dir("tinydata");
-    auto r = test::run_pb4u("-q generate --config " + kSource + "/configs/data/tiny.yaml --out " + dir);
-    EXPECT_EQ(r.exit_code, 0) << r.err;
-    return dir + "/tiny.h5";
-  }();
-  return path;
-}
-
 TrainConfig tiny_config(const std::string& out, std::vector<std::string> sets = {}) {
-  sets.push_back("data.dataset=" + tiny_dataset());
+  sets.push_back("data.dataset=" + test::tiny_dataset());
   sets.push_back("run.out=" + out);
   return load_config<TrainConfig>(kSource + "/configs/train/tiny.yaml", sets);
 }
@@ -96,7 +85,7 @@ TEST(Trainer, StoppedAndResumedRunEqualsUninterrupted) {
 TEST(TrainCommand, WritesRunFilesAndRefusesToClobber) {
   const std::string out = test::temp_dir("train_cli") + "/run";
   const std::string args = "-q train --config " + kSource + "/configs/train/tiny.yaml --set run.steps=6 "
-                           "--set run.checkpoint_every=3 --set data.dataset=" + tiny_dataset() +
+                           "--set run.checkpoint_every=3 --set data.dataset=" + test::tiny_dataset() +
                            " --out " + out;
   auto r = test::run_pb4u(args);
   ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -122,7 +111,7 @@ TEST(TrainCommand, SigkillAlwaysLeavesALoadableCheckpoint) {
   const std::string out = test::temp_dir("train_kill") + "/run";
   const std::string cmd = std::string(PB4U_BINARY) + " -q --threads 1 train --config " + kSource +
                           "/configs/train/tiny.yaml --set run.steps=400 --set run.checkpoint_every=1"
-                          " --set data.dataset=" + tiny_dataset() + " --out " + out;
+                          " --set data.dataset=" + test::tiny_dataset() + " --out " + out;
   std::mt19937 rng(11);
   for (int round = 0; round < 4; ++round) {
     pid_t pid = fork();
