@@ -27,7 +27,10 @@ if [ ! -f "$PB4U_MODEL" ] || [ ! -f "$MGN_MODEL" ]; then
   for kind in pb4u mgn; do
     if [ ! -f "runs/demo_$kind/final.pt" ]; then
       rm -rf "runs/demo_$kind"
-      "$PB4U" train --config configs/train/demo.yaml --set model.kind=$kind --out "runs/demo_$kind"
+      scaling=on
+      [ "$kind" = mgn ] && scaling=off  # the paper's MGN: fixed depth, no update scaling
+      "$PB4U" train --config configs/train/demo.yaml --set model.kind=$kind \
+        --set model.update_scaling=$scaling --out "runs/demo_$kind"
     fi
     "$PB4U" export --checkpoint "runs/demo_$kind/final.pt" --out "$OUT/demo_$kind.h5"
   done

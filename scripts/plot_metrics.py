@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """Training curves from one or more runs' metrics.jsonl (SPEC 7): total loss and each
 physics term vs step, one panel per key, one line per run.
-Usage: plot_metrics.py OUT.png RUN_DIR_OR_JSONL[:LABEL] ... [--smooth 20]"""
+Usage: plot_metrics.py OUT.png RUN_DIR_OR_JSONL[:LABEL] ... [--smooth 20]
+Each panel is a moving median (training samples differ, so a mean follows outliers)."""
 import argparse
 import json
 import math
@@ -12,7 +13,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-SKIP = {"step", "lr", "seconds", "rollout", "K", "skipped_steps", "collision_weight"}
+SKIP = {"step", "lr", "seconds", "step_seconds", "rollout", "K", "skipped_steps", "collision_weight"}
 
 
 def load(path):
@@ -28,13 +29,14 @@ def load(path):
 
 
 def smooth(values, k):
+    """Moving median: samples differ (garment, material, effects), so a mean follows outliers."""
     out, acc = [], []
     for v in values:
         acc.append(v)
         if len(acc) > k:
             acc.pop(0)
-        finite = [x for x in acc if x is not None and math.isfinite(x)]
-        out.append(sum(finite) / len(finite) if finite else float("nan"))
+        finite = sorted(x for x in acc if x is not None and math.isfinite(x))
+        out.append(finite[len(finite) // 2] if finite else float("nan"))
     return out
 
 
@@ -57,12 +59,12 @@ def main():
             if pts:
                 ax.plot([p[0] for p in pts], smooth([p[1] for p in pts], a.smooth), label=label)
         ax.set_ylabel(key)
-        if key != "gravity" and key != "loss":
-            ax.set_yscale("symlog", linthresh=1e-4)
+        if key not in ("gravity", "loss"):
+            ax.set_yscale("log")  # non-negative terms spanning decades
         ax.grid(True, alpha=0.3)
     axes[0].legend(fontsize=8)
     axes[-1].set_xlabel("step")
-    fig.suptitle("Training curves (moving average over %d steps)" % a.smooth)
+    fig.suptitle("Training curves (moving median over %d steps)" % a.smooth)
     fig.tight_layout()
     fig.savefig(a.png, dpi=110)
 

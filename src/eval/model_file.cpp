@@ -135,7 +135,8 @@ void export_model_file(const ModelFile& model, const std::string& out) {
 }
 
 std::string method_name(const ModelConfig& config) {
-  if (!config.is_pb4u()) return "MGN";
+  // The paper's MGN is fixed-depth and unscaled; with update scaling on it is another model.
+  if (!config.is_pb4u()) return config.update_scaling_on() ? "MGN w/ US" : "MGN";
   const bool pc = config.propagation_control_on(), us = config.update_scaling_on();
   if (pc && us) return "Pb4U";
   if (!pc && !us) return "Pb4U w/o both";

@@ -148,7 +148,9 @@ TEST(MethodName, FollowsTheModelConfig) {
   c.update_scaling = "on";
   EXPECT_EQ(method_name(c), "Pb4U w/o PC");
   c.kind = "mgn";
-  EXPECT_EQ(method_name(c), "MGN");
+  EXPECT_EQ(method_name(c), "MGN w/ US");
+  c.update_scaling = "off";
+  EXPECT_EQ(method_name(c), "MGN");  // the paper's baseline: fixed depth, no scaling
 }
 
 TEST(Evaluate, JsonHasEveryActiveTermPerLevelAndMethod) {
