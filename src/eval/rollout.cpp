@@ -8,18 +8,6 @@
 
 namespace pb4u {
 
-torch::Tensor matrix_to_tensor(const Eigen::MatrixXd& m) {
-  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> r = m;
-  return torch::from_blob(r.data(), {r.rows(), r.cols()}, torch::kFloat64).clone();
-}
-
-Eigen::MatrixXd tensor_to_matrix(const torch::Tensor& t) {
-  auto c = t.detach().to(torch::kCPU, torch::kFloat64).contiguous();
-  Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> m(
-      c.data_ptr<double>(), c.size(0), c.size(1));
-  return m;
-}
-
 StepFunction network_stepper(const ModelFile& model, const GarmentTopology& topology) {
   Pb4uNet net = model.model;
   return [net, topology](const FrameState& state, const ClothGeometry&, const TermList&,
@@ -82,8 +70,7 @@ RolloutResult run_rollout(const RolloutInput& in, const StepFunction& step,
   }
   torch::Tensor body_faces;
   if (with_body) {
-    Eigen::Matrix<int64_t, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> f = in.body_faces.cast<int64_t>();
-    body_faces = torch::from_blob(f.data(), {f.rows(), f.cols()}, torch::kInt64).clone();
+    body_faces = index_matrix_to_tensor(in.body_faces);
   }
 
   RolloutResult result;

@@ -3,21 +3,15 @@
 #include <Eigen/Core>
 
 #include "pb4u/spatial/point_kd_tree.h"
+#include "pb4u/util/eigen_tensor.h"
 
 namespace pb4u {
 
-namespace {
-Eigen::MatrixXd to_eigen(const torch::Tensor& t) {
-  auto c = t.detach().to(torch::kCPU, torch::kFloat64).contiguous();
-  using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
-  return Eigen::Map<const RowMajor>(c.data_ptr<double>(), c.size(0), 3);
-}
-}  // namespace
 
 torch::Tensor garment_body_pairs(const torch::Tensor& x, const torch::Tensor& body_vertices,
                                  double radius, bool nearest_only) {
-  PointKdTree tree(to_eigen(body_vertices));
-  const Eigen::MatrixXd queries = to_eigen(x);
+  PointKdTree tree(tensor_to_matrix(body_vertices));
+  const Eigen::MatrixXd queries = tensor_to_matrix(x);
   std::vector<std::pair<int, int>> pairs;
   if (nearest_only) {
     Eigen::VectorXi index;

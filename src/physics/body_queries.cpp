@@ -3,6 +3,7 @@
 #include <atomic>
 
 #include "pb4u/spatial/point_kd_tree.h"
+#include "pb4u/util/eigen_tensor.h"
 #include "pb4u/util/error.h"
 
 namespace pb4u {
@@ -13,20 +14,6 @@ std::atomic<int64_t> g_trees_built{0};
 PointKdTree make_body_tree(const Eigen::MatrixXd& points) {
   ++g_trees_built;
   return PointKdTree(points);
-}
-
-Eigen::MatrixXd to_eigen(const torch::Tensor& t) {
-  torch::Tensor c = t.detach().to(torch::kCPU, torch::kFloat64).contiguous();
-  Eigen::MatrixXd M(c.size(0), 3);
-  auto a = c.accessor<double, 2>();
-  for (int64_t i = 0; i < c.size(0); ++i)
-    for (int k = 0; k < 3; ++k) M(i, k) = a[i][k];
-  return M;
-}
-
-torch::Tensor to_index(const Eigen::VectorXi& idx, const torch::Device& device) {
-  return torch::from_blob(const_cast<int*>(idx.data()), {idx.size()}, torch::kInt32)
-      .to(device, torch::kInt64);
 }
 
 void check_points(const torch::Tensor& t, const char* what) {
@@ -72,12 +59,12 @@ BodyContact query_body_contact(const torch::Tensor& x, const BodyFrame& body,
   face_frames(V, faces, degenerate_area, &c_t, &n_t);
   face_frames(Vn, faces, degenerate_area, &c_n, &n_n);
 
-  PointKdTree tree = make_body_tree(to_eigen(c_t));
+  PointKdTree tree = make_body_tree(tensor_to_matrix(c_t));
   Eigen::VectorXi nearest;
-  tree.nearest(to_eigen(x), &nearest);
+  tree.nearest(tensor_to_matrix(x), &nearest);
 
   BodyContact c;
-  c.face = to_index(nearest, x.device());
+  c.face = index_vector_to_tensor(nearest, x.device());
   c.point = c_n.index_select(0, c.face);
   c.normal = n_n.index_select(0, c.face);
   c.motion = c.point - c_t.index_select(0, c.face);
@@ -99,13 +86,13 @@ torch::Tensor nearest_body_vertex(const torch::Tensor& x, const torch::Tensor& b
   check_points(x, "garment positions");
   check_points(body_vertices, "body vertices");
   if (body_vertices.size(0) == 0) throw Error("body queries: the body has no vertices");
-  PointKdTree tree = make_body_tree(to_eigen(body_vertices));
+  PointKdTree tree = make_body_tree(tensor_to_matrix(body_vertices));
   Eigen::VectorXi idx;
   Eigen::VectorXd d2;
-  tree.nearest(to_eigen(x), &idx, &d2);
+  tree.nearest(tensor_to_matrix(x), &idx, &d2);
   if (squared_distance)
     *squared_distance = torch::from_blob(d2.data(), {d2.size()}, torch::kFloat64).to(x.options()).clone();
-  return to_index(idx, x.device());
+  return index_vector_to_tensor(idx, x.device());
 }
 
 }  // namespace pb4u

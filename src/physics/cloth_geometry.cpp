@@ -4,19 +4,10 @@
 #include "pb4u/mesh/geometry.h"
 #include "pb4u/mesh/rest_frames.h"
 #include "pb4u/physics/bending_energy.h"
+#include "pb4u/util/eigen_tensor.h"
 #include "pb4u/util/error.h"
 
 namespace pb4u {
-namespace {
-torch::Tensor to_tensor(const Eigen::MatrixXd& M) {
-  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> R = M;
-  return torch::from_blob(R.data(), {R.rows(), R.cols()}, torch::kFloat64).clone();
-}
-torch::Tensor to_index_tensor(const Eigen::MatrixXi& M) {
-  Eigen::Matrix<int, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> R = M;
-  return torch::from_blob(R.data(), {R.rows(), R.cols()}, torch::kInt32).to(torch::kInt64);
-}
-}  // namespace
 
 ClothGeometry make_cloth_geometry(const TriMesh& rest, torch::Dtype dtype, torch::Device device,
                                   bool with_rest_angles, double degenerate_area) {
@@ -31,12 +22,12 @@ ClothGeometry make_cloth_geometry(const TriMesh& rest, torch::Dtype dtype, torch
 
   ClothGeometry g;
   g.num_vertices = V.rows();
-  g.faces = to_index_tensor(F);
-  g.dm_inverse = to_tensor(rest_dm_inverse(V, F)).reshape({F.rows(), 2, 2});
+  g.faces = index_matrix_to_tensor(F);
+  g.dm_inverse = matrix_to_tensor(rest_dm_inverse(V, F)).reshape({F.rows(), 2, 2});
   Eigen::VectorXd A = face_areas(V, F);
-  g.face_area = to_tensor(A);
+  g.face_area = matrix_to_tensor(A);
   g.face_area = g.face_area.reshape({F.rows()});
-  g.vertex_area = to_tensor(vertex_masses(V, F, 1.0)).reshape({V.rows()});
+  g.vertex_area = matrix_to_tensor(vertex_masses(V, F, 1.0)).reshape({V.rows()});
 
   HingeSet h = interior_hinges(F);
   Eigen::MatrixXi H(h.size(), 4);
@@ -47,10 +38,10 @@ ClothGeometry make_cloth_geometry(const TriMesh& rest, torch::Dtype dtype, torch
     double a = A(h.faces(e, 0)) + A(h.faces(e, 1));
     w(e) = a > 0 ? l2 / (4.0 * a) : 0.0;  // a hinge between zero-area faces has no stiffness
   }
-  g.hinges = h.size() ? to_index_tensor(H) : torch::zeros({0, 4}, torch::kInt64);
-  g.hinge_weight = to_tensor(w).reshape({h.size()});
+  g.hinges = h.size() ? index_matrix_to_tensor(H) : torch::zeros({0, 4}, torch::kInt64);
+  g.hinge_weight = matrix_to_tensor(w).reshape({h.size()});
   g.rest_angle = with_rest_angles
-                     ? dihedral_angles(to_tensor(V), g.hinges, degenerate_area)
+                     ? dihedral_angles(matrix_to_tensor(V), g.hinges, degenerate_area)
                      : torch::zeros({h.size()}, torch::kFloat64);
 
   auto opts = torch::TensorOptions().dtype(dtype).device(device);

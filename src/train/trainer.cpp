@@ -18,6 +18,7 @@
 #include "pb4u/train/checkpoint.h"
 #include "pb4u/train/metrics_log.h"
 #include "pb4u/util/atomic_file.h"
+#include "pb4u/util/eigen_tensor.h"
 #include "pb4u/util/error.h"
 #include "pb4u/util/progress.h"
 
@@ -25,16 +26,6 @@ namespace pb4u {
 namespace fs = std::filesystem;
 
 namespace {
-
-torch::Tensor to_tensor(const Eigen::MatrixXd& m, const torch::Device& device) {
-  Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> f = m.cast<float>();
-  return torch::from_blob(f.data(), {f.rows(), f.cols()}, torch::kFloat32).clone().to(device);
-}
-
-torch::Tensor faces_tensor(const Eigen::MatrixXi& F, const torch::Device& device) {
-  Eigen::Matrix<int64_t, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> f = F.cast<int64_t>();
-  return torch::from_blob(f.data(), {f.rows(), f.cols()}, torch::kInt64).clone().to(device);
-}
 
 bool gradients_finite(const std::vector<torch::Tensor>& params) {
   for (const auto& p : params)
@@ -124,11 +115,11 @@ StepResult Trainer::train_step() {
   const Garment& garment = data_.garments[gi];
   LbsFrame frame = lbs_frame(body, garment, motion, t, config_.data.push_out_gap);
   FrameState state;
-  state.x = to_tensor(frame.garment, device_);
-  state.x_prev = to_tensor(frame.garment_prev, device_);
+  state.x = matrix_to_tensor(frame.garment, torch::kFloat32, device_);
+  state.x_prev = matrix_to_tensor(frame.garment_prev, torch::kFloat32, device_);
   state.effects = effects;
   state.material = material;
-  const torch::Tensor body_faces = faces_tensor(body.mesh.F, device_);
+  const torch::Tensor body_faces = index_matrix_to_tensor(body.mesh.F, device_);
   Eigen::MatrixXd body_now = frame.body, body_next = frame.body_next;
 
   TermList terms = build_terms(effects, config_.physics, result.collision_weight);
@@ -137,8 +128,8 @@ StepResult Trainer::train_step() {
   std::vector<double> term_sums(terms.size(), 0.0);
   for (int i = 0; i < r; ++i) {
     if (effects.needs_body()) {
-      state.body.vertices = to_tensor(body_now, device_);
-      state.body.next_vertices = to_tensor(body_next, device_);
+      state.body.vertices = matrix_to_tensor(body_now, torch::kFloat32, device_);
+      state.body.next_vertices = matrix_to_tensor(body_next, torch::kFloat32, device_);
       state.body.faces = body_faces;
     } else {
       state.body = BodyFrame{};

@@ -16,6 +16,7 @@
 #include "pb4u/physics/energy_report.h"
 #include "pb4u/physics/physics_term.h"
 #include "pb4u/scene/effects.h"
+#include "pb4u/util/eigen_tensor.h"
 
 namespace pb4u {
 
@@ -55,9 +56,5 @@ using FrameCallback = std::function<void(int frame, const Eigen::MatrixXd& garme
 // on inconsistent input (sizes, a body missing when the effects need one).
 RolloutResult run_rollout(const RolloutInput& input, const StepFunction& step,
                           const PhysicsConfig& physics, const FrameCallback& on_frame = {});
-
-// Row-major float64 tensor of an n x 3 matrix, and back.
-torch::Tensor matrix_to_tensor(const Eigen::MatrixXd& m);
-Eigen::MatrixXd tensor_to_matrix(const torch::Tensor& t);
 
 }  // namespace pb4u
