@@ -2,6 +2,6 @@
 #include "pb4u/util/runtime.h"
 
 int main(int argc, char** argv) {
-  pb4u::ensure_fast_blas(argc, argv);  // may re-execute with OPENBLAS_CORETYPE set
+  pb4u::ensure_fast_runtime(argc, argv);  // may re-execute with OPENBLAS_CORETYPE, OMP_WAIT_POLICY set
   return pb4u::run_cli(argc, argv);
 }

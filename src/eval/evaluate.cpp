@@ -9,7 +9,6 @@
 #include <sstream>
 
 #include "pb4u/data/dataset.h"
-#include "pb4u/data/lbs_frame.h"
 #include "pb4u/eval/rollout.h"
 #include "pb4u/util/error.h"
 #include "pb4u/util/progress.h"
@@ -136,19 +135,8 @@ std::vector<LevelResult> evaluate(const EvalConfig& config, const std::vector<Ev
         const int start = config.start_frame;
         int steps = motion.num_frames() - 1 - start;
         if (config.max_frames > 0) steps = std::min(steps, config.max_frames);
-        LbsFrame frame = lbs_frame(*s.body, garment, motion, start, config.push_out_gap);
-        RolloutInput in;
-        in.garment_rest = garment.mesh;
-        in.x0 = frame.garment;
-        in.x_prev = frame.garment_prev;
-        in.effects = effects;
-        in.material = config.material;
-        in.metric_material = config.material;
-        in.steps = steps;
-        if (effects.needs_body()) {
-          in.body_faces = s.body->mesh.F;
-          for (int t = start; t <= start + steps; ++t) in.body.push_back(pose_body(*s.body, motion.frames[t]));
-        }
+        RolloutInput in = lbs_rollout_input(*s.body, garment, motion, start, steps, effects, config.material,
+                                            config.push_out_gap);
         GarmentTopology topology;
         StepFunction step;
         if (method.model) {

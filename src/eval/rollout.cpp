@@ -1,12 +1,33 @@
 #include "pb4u/eval/rollout.h"
 
+#include <chrono>
 #include <cmath>
 
+#include "pb4u/data/lbs_frame.h"
 #include "pb4u/physics/cloth_geometry.h"
 #include "pb4u/physics/reference_solver.h"
 #include "pb4u/util/error.h"
 
 namespace pb4u {
+
+RolloutInput lbs_rollout_input(const Body& body, const Garment& garment, const Motion& motion, int start,
+                               int steps, const Effects& effects, const Material& material,
+                               double push_out_gap) {
+  LbsFrame frame = lbs_frame(body, garment, motion, start, push_out_gap);
+  RolloutInput in;
+  in.garment_rest = garment.mesh;
+  in.x0 = frame.garment;
+  in.x_prev = frame.garment_prev;
+  in.effects = effects;
+  in.material = material;
+  in.metric_material = material;
+  in.steps = steps;
+  if (effects.needs_body()) {
+    in.body_faces = body.mesh.F;
+    for (int t = start; t <= start + steps; ++t) in.body.push_back(pose_body(body, motion.frames[t]));
+  }
+  return in;
+}
 
 StepFunction network_stepper(const ModelFile& model, const GarmentTopology& topology) {
   Pb4uNet net = model.model;
@@ -30,6 +51,10 @@ bool report_finite(const EnergyReport& r) {
   for (const auto& t : r.terms)
     if (!std::isfinite(t.second)) return false;
   return true;
+}
+
+double ms_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
 // The vertex that moved most from x to x_next, a non-finite one first.
@@ -80,8 +105,12 @@ RolloutResult run_rollout(const RolloutInput& in, const StepFunction& step,
       state.body.next_vertices = matrix_to_tensor(in.body[frame]);
       state.body.faces = body_faces;
     }
+    auto t0 = std::chrono::steady_clock::now();
     std::optional<BodyContact> contact = body_contact_for(state, physics);
+    const double contact_ms = ms_since(t0);
+    t0 = std::chrono::steady_clock::now();
     torch::Tensor x_next = step(state, cloth, terms, contact ? &*contact : nullptr);
+    const double step_ms = ms_since(t0);
     bool finite = torch::isfinite(x_next).all().item<bool>();
     EnergyReport report;
     if (finite) {
@@ -95,6 +124,8 @@ RolloutResult run_rollout(const RolloutInput& in, const StepFunction& step,
       break;
     }
     result.reports.push_back(report);
+    result.step_ms.push_back(step_ms);
+    result.contact_ms.push_back(contact_ms);
     if (on_frame) on_frame(frame, tensor_to_matrix(x_next), report);
     state.x_prev = state.x;
     state.x = x_next;

@@ -42,6 +42,9 @@ std::string better_core_type(const std::string& detected) {
   return "";
 }
 
+// OMP_WAIT_POLICY set when the user has none (see ensure_fast_runtime).
+constexpr const char* kDefaultOmpWaitPolicy = "PASSIVE";
+
 }  // namespace
 
 std::string blas_core_name() {
@@ -51,20 +54,31 @@ std::string blas_core_name() {
   return name ? std::string(name) : std::string("unknown");
 }
 
-void ensure_fast_blas(int argc, char** argv) {
-  if (const char* off = std::getenv("PB4U_NO_BLAS_REEXEC"); off && *off && std::strcmp(off, "0"))
-    return;
-  // The user chose, or we already re-executed (then the variable is set, even if empty).
-  if (std::getenv("OPENBLAS_CORETYPE")) return;
-  std::string core = blas_core_name();
-  if (core == "reference") return;
-  std::string best = better_core_type(core);
-  if (best.empty()) return;
-  ::setenv("OPENBLAS_CORETYPE", best.c_str(), 1);
+void ensure_fast_runtime(int argc, char** argv) {
+  if (const char* off = std::getenv("PB4U_NO_REEXEC"); off && *off && std::strcmp(off, "0")) return;
+  bool changed = false;
+  // A user's own setting is kept; after our re-exec both variables are set, so this runs once.
+  if (!std::getenv("OPENBLAS_CORETYPE")) {
+    const std::string core = blas_core_name();
+    const std::string best = core == "reference" ? "" : better_core_type(core);
+    if (!best.empty()) {
+      ::setenv("OPENBLAS_CORETYPE", best.c_str(), 1);
+      changed = true;
+    }
+  }
+  // libgomp spins idle threads for ~300K iterations between parallel regions. The network runs
+  // hundreds of small regions per frame, and whenever another process wants a core the
+  // spinners steal it: measured 200x slower frames on a loaded 2-core machine
+  // (docs/performance.md). Passive threads sleep at once.
+  if (!std::getenv("OMP_WAIT_POLICY")) {
+    ::setenv("OMP_WAIT_POLICY", kDefaultOmpWaitPolicy, 1);
+    changed = true;
+  }
+  if (!changed) return;
   std::vector<char*> args(argv, argv + argc);
   args.push_back(nullptr);
   ::execv("/proc/self/exe", args.data());
-  // execv only returns on failure: carry on with the slow kernels.
+  // execv only returns on failure: carry on with the defaults.
 }
 
 int configure_threads(int requested) {
@@ -75,8 +89,9 @@ int configure_threads(int requested) {
 }
 
 void log_runtime_info() {
-  spdlog::info("runtime: BLAS core {}, {} torch threads, libtorch {}", blas_core_name(),
-               torch::get_num_threads(), TORCH_VERSION);
+  const char* wait = std::getenv("OMP_WAIT_POLICY");
+  spdlog::info("runtime: BLAS core {}, {} torch threads (OpenMP wait policy {}), libtorch {}", blas_core_name(),
+               torch::get_num_threads(), wait ? wait : "default", TORCH_VERSION);
 }
 
 }  // namespace pb4u

@@ -12,7 +12,7 @@
 #include "pb4u/util/runtime.h"
 
 int main(int argc, char** argv) {
-  pb4u::ensure_fast_blas(argc, argv);
+  pb4u::ensure_fast_runtime(argc, argv);
   int64_t M = argc > 3 ? std::atoll(argv[1]) : 36000, K = argc > 3 ? std::atoll(argv[2]) : 384,
           N = argc > 3 ? std::atoll(argv[3]) : 128;
   int repeats = argc > 4 ? std::atoi(argv[4]) : 15;

@@ -113,7 +113,7 @@ void run(const Scale& scale, const std::string& kind, int repeats) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  pb4u::ensure_fast_blas(argc, argv);
+  pb4u::ensure_fast_runtime(argc, argv);
   // glibc serves the multi-MB activations with mmap and returns them on free, so every layer
   // page-faults its output afresh; keeping freed memory in the heap is worth ~30% here.
   // PB4U_DEFAULT_MALLOC=1 measures without it.

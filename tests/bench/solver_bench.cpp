@@ -21,7 +21,7 @@
 using namespace pb4u;
 
 int main(int argc, char** argv) {
-  ensure_fast_blas(argc, argv);
+  ensure_fast_runtime(argc, argv);
   const int warmup = argc > 1 ? std::atoi(argv[1]) : 6;
   const int repeats = argc > 2 ? std::atoi(argv[2]) : 5;
   const int threads = configure_threads(argc > 3 ? std::atoi(argv[3]) : 0);

@@ -10,7 +10,9 @@
 #include <string>
 #include <vector>
 
+#include "pb4u/body/body.h"
 #include "pb4u/eval/model_file.h"
+#include "pb4u/garment/garment.h"
 #include "pb4u/graph/garment_topology.h"
 #include "pb4u/physics/body_queries.h"
 #include "pb4u/physics/energy_report.h"
@@ -33,6 +35,13 @@ struct RolloutInput {
   double dt = 1.0 / 30.0;            // s
 };
 
+// The rollout of `garment` worn by `body` under `motion`, from its LBS-initialised frame
+// `start` (pushed `push_out_gap` m out of the body) for `steps` frames; body frames are posed
+// only when the effects need a body. Material and metric material are both `material`.
+RolloutInput lbs_rollout_input(const Body& body, const Garment& garment, const Motion& motion, int start,
+                               int steps, const Effects& effects, const Material& material,
+                               double push_out_gap);
+
 // Advances one frame: float64 state in, float64 x_{t+1} (n, 3) out.
 using StepFunction = std::function<torch::Tensor(const FrameState& state, const ClothGeometry& cloth,
                                                  const TermList& terms, const BodyContact* contact)>;
@@ -47,6 +56,9 @@ struct RolloutResult {
   bool diverged = false;
   int diverged_at_frame = -1;         // the first frame with a non-finite position or energy
   int worst_vertex = -1;              // the vertex that moved most (non-finite first) there
+  // Wall time (ms) per finite frame of the stepper and of the body contact query
+  // (body_contact_for: KD-tree and closest points, which the physics terms and the solver use).
+  std::vector<double> step_ms, contact_ms;
 };
 
 // Called with frame index (1..steps), garment positions (n x 3 m) and the frame's energies.

@@ -5,12 +5,15 @@
 
 namespace pb4u {
 
-// OpenBLAS picks its kernels when it is loaded. On some VMs it detects the CPU
-// as a generic core ("Prescott") and runs 4x slower than it could. If so, and
-// the CPU supports AVX-512 / AVX2, this sets OPENBLAS_CORETYPE and re-executes
-// the program (once) so the loader picks the fast kernels. Returns normally
-// when nothing needs to change. Set PB4U_NO_BLAS_REEXEC=1 to disable.
-void ensure_fast_blas(int argc, char** argv);
+// Settings that libraries read only when they load, so they must be in the environment before
+// the program starts: if any needs to change, this sets it and re-executes the program once.
+// - OpenBLAS picks its kernels at load. On some VMs it detects the CPU as a generic core
+//   ("Prescott") and runs 3-4x slower than it could; if the CPU supports AVX-512 / AVX2 this
+//   sets OPENBLAS_CORETYPE.
+// - libgomp's idle threads spin; under load that starves the work (OMP_WAIT_POLICY=PASSIVE).
+// A variable the user set is kept. Returns normally when nothing needs to change. Set
+// PB4U_NO_REEXEC=1 to disable.
+void ensure_fast_runtime(int argc, char** argv);
 
 // The BLAS core in use, e.g. "SkylakeX", or "reference" when libblas.so.3 is not OpenBLAS.
 std::string blas_core_name();

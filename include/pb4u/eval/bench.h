@@ -1,0 +1,121 @@
+#pragma once
+// `pb4u bench` (Table 3 / Figure 5): what accuracy costs in time. At each resolution level one
+// garment rolls out one held-out motion under every method: the networks with resolution-aware
+// K, the first Pb4U network at fixed K values (Figure 5), inference-time ablations, and the
+// reference solver at several iteration budgets. Each run reports the physics loss (SPEC 3,
+// mean per frame; total and positive part) and the per-frame latency (median and min over the
+// frames after warm-up). A per-stage breakdown of one frame shows where the time goes, and a
+// variant without a body shows what skipping world edges and contact saves.
+#include <string>
+#include <vector>
+
+#include "pb4u/config/config_io.h"
+#include "pb4u/physics/material.h"
+#include "pb4u/physics/physics_config.h"
+
+namespace pb4u {
+
+struct BenchConfig {
+  std::string dataset = "data/generated/quick/quick.h5";  // written by `pb4u generate`
+  std::vector<int> levels{1, 2, 3, 4};  // 1-based, as in the dataset
+  std::string garment = "tshirt";       // template name
+  std::string motion;                   // a motion of the dataset; empty: the first test motion
+  int start_frame = 1;                  // LBS-initialised start (needs the frame before it)
+  int frames = 20;                      // frames rolled out per run (loss and latency)
+  int warmup_frames = 2;                // first frames left out of the latency (allocation)
+  double push_out_gap = 0.004;          // m, as in training and evaluation
+  std::vector<std::string> checkpoints;  // models run with their own K (training or export files)
+  std::vector<std::string> names;        // column names for the first checkpoints (optional)
+  std::vector<int> k_values;             // fixed-K runs of the first Pb4U checkpoint (Figure 5)
+  // Inference-time switches on the first Pb4U checkpoint's weights: no_update_scaling,
+  // no_propagation_control (K = K_base).
+  std::vector<std::string> ablations;
+  std::vector<int> reference_iterations{5, 20};  // L-BFGS budgets of the reference solver
+  bool no_body_variant = true;  // also run the first checkpoint with gravity only (no body)
+  int stage_repeats = 7;        // frames timed for the per-stage breakdown (median)
+  std::vector<int> matmul_size{36000, 384, 128};  // dense matmul the FLOP rate is compared to
+  std::vector<std::string> effects{"gravity", "collision", "friction"};
+  Material material;      // the evaluation material (SPEC 2 defaults)
+  PhysicsConfig physics;  // solver defaults; the budget is overridden per run
+
+  template <class V>
+  void visit(V& v) {
+    v("dataset", dataset);
+    v("levels", levels);
+    v("garment", garment);
+    v("motion", motion);
+    v("start_frame", start_frame, int_at_least(1));
+    v("frames", frames, int_at_least(1));
+    v("warmup_frames", warmup_frames, int_at_least(0));
+    v("push_out_gap", push_out_gap, in_range(0, 0.05));
+    v("checkpoints", checkpoints);
+    v("names", names);
+    v("k_values", k_values);
+    v("ablations", ablations);
+    v("reference_iterations", reference_iterations);
+    v("no_body_variant", no_body_variant);
+    v("stage_repeats", stage_repeats, int_at_least(1));
+    v("matmul_size", matmul_size);
+    v("effects", effects);
+    v("material", material);
+    v("physics", physics);
+  }
+};
+
+// One method at one level.
+struct BenchRow {
+  int level = 0;
+  int64_t triangles = 0, vertices = 0;
+  std::string method;             // e.g. "Pb4U", "Pb4U (fixed K)", "MGN", "Reference (20 it)"
+  std::string family;             // network | fixed_k | ablation | reference | no_body
+  int64_t K = 0;                  // propagation steps (0: MGN, reference)
+  int iterations = 0;             // reference solver budget (0: a network)
+  int threads = 1;                // torch intra-op threads
+  double latency_ms_median = 0, latency_ms_min = 0;  // per frame, after warm-up
+  double physics_loss = 0;        // J: SPEC 3 total, mean per frame (NaN when nothing finite)
+  double positive_loss = 0;       // J: stretch + bending + collision, mean per frame
+  std::vector<std::pair<std::string, double>> terms;  // J, mean per frame
+  int frames = 0;                 // finite frames
+  bool diverged = false;
+  int diverged_at_frame = -1;
+};
+
+// Median wall time (ms) of each stage of one network frame at one level.
+struct StageRow {
+  int level = 0;
+  int64_t vertices = 0, mesh_edges = 0, world_edges = 0;
+  std::string method;
+  bool with_body = true;
+  int64_t K = 0;
+  double graph_build = 0, world_edge_query = 0, encode = 0, propagate = 0, blocks = 0,
+         decode = 0, euler = 0, contact_query = 0, physics_terms = 0;
+  double message_passing_gflops = 0;  // matmul FLOP rate of propagation + update + blocks
+};
+
+struct BenchResult {
+  std::vector<BenchRow> rows;
+  std::vector<StageRow> stages;
+  int threads = 1;
+  std::string device = "cpu";
+  std::string blas_core;
+  double matmul_gflops = 0;  // dense float matmul of config.matmul_size, median, same threads
+};
+
+// Runs the benchmark (progress bar per level). Throws pb4u::Error on bad config / data.
+BenchResult run_bench(const BenchConfig& config);
+
+// SPEC 7: level,triangles,vertices,method,K,threads,latency_ms_median,latency_ms_min,physics_loss
+std::string format_bench_csv(const BenchResult& result);
+// Every column of every row, terms included (for plots and scripts).
+std::string format_bench_details_csv(const BenchResult& result);
+std::string format_stages_csv(const BenchResult& result);
+// Table 3 layout: per level, one row per method with K, latency, total and positive loss;
+// then the per-stage table, the FLOP-rate comparison, the Pb4U-vs-reference speed-up at equal
+// loss and the fitted latency exponents.
+std::string format_bench_table(const BenchResult& result);
+
+// Least-squares slope of log(latency) on log(vertices) over the rows of `method` (NaN if
+// fewer than two levels).
+double latency_exponent(const std::vector<BenchRow>& rows, const std::string& method);
+
+}  // namespace pb4u

@@ -1,0 +1,144 @@
+#!/usr/bin/python3
+"""Figures of a `pb4u bench` run, from DIR/bench_details.csv:
+  loss_vs_k.png           physics loss vs K of the fixed-K Pb4U runs, one line per level (Figure 5);
+                          the K that Pb4U picks by itself is starred
+  loss_vs_latency.png     physics loss vs per-frame latency, one panel per level (the Pareto view)
+  latency_vs_vertices.png latency vs vertex count, log-log, with each method's fitted exponent
+Usage: plot_bench.py DIR"""
+import csv
+import math
+import os
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+
+def read(path):
+    with open(path) as f:
+        rows = list(csv.DictReader(f))
+    for r in rows:
+        for k in ("level", "triangles", "vertices", "K", "iterations", "threads"):
+            r[k] = int(r[k])
+        for k in ("latency_ms_median", "latency_ms_min", "physics_loss", "positive_loss"):
+            r[k] = float(r[k])
+    return rows
+
+
+def finite(v):
+    return math.isfinite(v)
+
+
+def level_label(rows, level):
+    r = next(r for r in rows if r["level"] == level)
+    return f"Lv.{level} ({r['triangles']} tri)"
+
+
+def set_loss_scale(ax, values):
+    if values and min(values) > 0:
+        ax.set_yscale("log")
+    else:
+        ax.set_yscale("symlog", linthresh=1e-2)
+
+
+def loss_vs_k(rows, levels, out):
+    fig, ax = plt.subplots(figsize=(6.4, 4.2))
+    values = []
+    for level in levels:
+        pts = sorted((r["K"], r["physics_loss"]) for r in rows
+                     if r["level"] == level and r["family"] == "fixed_k" and finite(r["physics_loss"]))
+        if not pts:
+            continue
+        line, = ax.plot([p[0] for p in pts], [p[1] for p in pts], "o-", ms=4, label=level_label(rows, level))
+        values += [p[1] for p in pts]
+        own = [r for r in rows if r["level"] == level and r["family"] == "network" and r["K"] > 0
+               and finite(r["physics_loss"])]
+        if own:
+            ax.plot([own[0]["K"]], [own[0]["physics_loss"]], "*", ms=13, color=line.get_color(), mec="k")
+    set_loss_scale(ax, values)
+    ax.set_xlabel("propagation steps K")
+    ax.set_ylabel("physics loss per frame (J)")
+    ax.set_title("Physics loss vs K (star: K = floor(D / mean edge length))")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(out, dpi=130)
+
+
+def loss_vs_latency(rows, levels, out):
+    fig, axes = plt.subplots(1, len(levels), figsize=(3.6 * len(levels), 3.8), squeeze=False)
+    for ax, level in zip(axes[0], levels):
+        here = [r for r in rows if r["level"] == level and r["family"] != "no_body"
+                and finite(r["physics_loss"]) and finite(r["latency_ms_median"])]
+        ref = sorted((r for r in here if r["family"] == "reference"), key=lambda r: r["iterations"])
+        if ref:
+            ax.plot([r["latency_ms_median"] for r in ref], [r["physics_loss"] for r in ref], "s-",
+                    color="0.4", label="reference solver")
+            for r in ref:
+                ax.annotate(f"{r['iterations']} it", (r["latency_ms_median"], r["physics_loss"]),
+                            fontsize=7, xytext=(3, 3), textcoords="offset points")
+        fk = sorted((r for r in here if r["family"] == "fixed_k"), key=lambda r: r["K"])
+        if fk:
+            ax.plot([r["latency_ms_median"] for r in fk], [r["physics_loss"] for r in fk], ".:",
+                    color="tab:blue", alpha=0.6, label="Pb4U, fixed K")
+        for r in here:
+            if r["family"] in ("network", "ablation"):
+                ax.plot([r["latency_ms_median"]], [r["physics_loss"]], "o" if r["family"] == "network" else "x",
+                        ms=8, label=r["method"])
+        ax.set_xscale("log")
+        set_loss_scale(ax, [r["physics_loss"] for r in here])
+        ax.set_title(level_label(rows, level), fontsize=9)
+        ax.set_xlabel("latency per frame (ms)")
+        ax.grid(True, which="both", alpha=0.3)
+    axes[0][0].set_ylabel("physics loss per frame (J)")
+    axes[0][-1].legend(fontsize=7)
+    fig.suptitle("Accuracy vs time (lower left is better)")
+    fig.tight_layout()
+    fig.savefig(out, dpi=130)
+
+
+def latency_vs_vertices(rows, out):
+    fig, ax = plt.subplots(figsize=(6.4, 4.2))
+    methods = []
+    for r in rows:
+        if r["family"] != "fixed_k" and r["method"] not in methods:
+            methods.append(r["method"])
+    for m in methods:
+        pts = sorted((r["vertices"], r["latency_ms_median"]) for r in rows
+                     if r["method"] == m and finite(r["latency_ms_median"]) and r["latency_ms_median"] > 0)
+        if len(pts) < 2:
+            continue
+        xs = [math.log(p[0]) for p in pts]
+        ys = [math.log(p[1]) for p in pts]
+        mx, my = sum(xs) / len(xs), sum(ys) / len(ys)
+        sxx = sum((x - mx) ** 2 for x in xs)
+        slope = sum((x - mx) * (y - my) for x, y in zip(xs, ys)) / sxx if sxx > 0 else float("nan")
+        ax.plot([p[0] for p in pts], [p[1] for p in pts], "o-", ms=4, label=f"{m}  (exponent {slope:.2f})")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("garment vertices")
+    ax.set_ylabel("latency per frame (ms)")
+    ax.set_title("Latency vs resolution (log-log, fitted exponent)")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(out, dpi=130)
+
+
+def main():
+    if len(sys.argv) != 2:
+        sys.exit(__doc__)
+    d = sys.argv[1]
+    rows = read(os.path.join(d, "bench_details.csv"))
+    if not rows:
+        sys.exit("plot_bench.py: no rows in bench_details.csv")
+    levels = sorted({r["level"] for r in rows})
+    loss_vs_k(rows, levels, os.path.join(d, "loss_vs_k.png"))
+    loss_vs_latency(rows, levels, os.path.join(d, "loss_vs_latency.png"))
+    latency_vs_vertices(rows, os.path.join(d, "latency_vs_vertices.png"))
+
+
+if __name__ == "__main__":
+    main()

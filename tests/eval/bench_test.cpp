@@ -1,0 +1,122 @@
+// `pb4u bench` on the tiny dataset with the shipped models: the SPEC 7 CSV has its exact
+// header, one row per level and method, finite values; fixed-K rows carry their K; the stage
+// table is finite; the no-body variant builds no world edges. No timing is
+// asserted (the CI machine is shared). Plus the exponent fit in closed form and bad configs.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <sstream>
+
+#include "pb4u/eval/bench.h"
+#include "test_util.h"
+
+namespace pb4u {
+namespace {
+namespace fs = std::filesystem;
+
+const std::string kSource = PB4U_SOURCE_DIR;
+
+std::vector<std::vector<std::string>> read_csv(const std::string& path) {
+  std::vector<std::vector<std::string>> rows;
+  std::istringstream in(test::read_file(path));
+  std::string line;
+  while (std::getline(in, line)) {
+    std::vector<std::string> cells;
+    std::stringstream ss(line);
+    std::string cell;
+    while (std::getline(ss, cell, ',')) cells.push_back(cell);
+    rows.push_back(cells);
+  }
+  return rows;
+}
+
+std::string bench_args(const std::string& out, const std::string& extra = "") {
+  return "-q --threads 1 bench --config " + kSource + "/configs/bench/tiny.yaml --set dataset=" +
+         test::tiny_dataset() + " --set checkpoints=[" + kSource + "/data/pretrained/pb4u.h5," + kSource +
+         "/data/pretrained/mgn.h5] --set frames=3 --set stage_repeats=1 --out " + out + " " + extra;
+}
+
+TEST(Bench, TinyConfigWritesSpecCsvWithFiniteValues) {
+  const std::string out = test::temp_dir("bench");
+  auto r = test::run_pb4u(bench_args(out));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto rows = read_csv(out + "/bench.csv");
+  ASSERT_FALSE(rows.empty());
+  const std::vector<std::string> header{"level", "triangles", "vertices", "method", "K", "threads",
+                                        "latency_ms_median", "latency_ms_min", "physics_loss"};
+  EXPECT_EQ(rows[0], header);
+  // tiny.yaml: 2 levels x (2 checkpoints + 2 fixed K + 1 ablation + 1 reference + 2 no-body).
+  ASSERT_EQ(rows.size(), 1u + 2u * 8u);
+  std::map<std::string, int> per_method;
+  std::vector<int64_t> fixed_k;
+  for (size_t i = 1; i < rows.size(); ++i) {
+    const auto& c = rows[i];
+    ASSERT_EQ(c.size(), header.size()) << "row " << i;
+    EXPECT_TRUE(c[0] == "1" || c[0] == "3");
+    EXPECT_GT(std::stoll(c[1]), 0);
+    EXPECT_GT(std::stoll(c[2]), 0);
+    EXPECT_EQ(c[5], "1");  // --threads 1
+    const double median = std::stod(c[6]), min = std::stod(c[7]), loss = std::stod(c[8]);
+    EXPECT_TRUE(std::isfinite(median) && median > 0) << c[3];
+    EXPECT_TRUE(std::isfinite(min) && min > 0 && min <= median) << c[3];
+    EXPECT_TRUE(std::isfinite(loss)) << c[3];
+    ++per_method[c[3]];
+    if (c[3] == "Pb4U (fixed K)") fixed_k.push_back(std::stoll(c[4]));
+    if (c[3] == "MGN" || c[3].rfind("Reference", 0) == 0) EXPECT_EQ(c[4], "0") << c[3];
+  }
+  EXPECT_EQ(per_method["Pb4U"], 2);
+  EXPECT_EQ(per_method["MGN"], 2);
+  EXPECT_EQ(per_method["Reference (2 it)"], 2);
+  EXPECT_EQ(per_method["Pb4U (no body)"], 2);
+  EXPECT_EQ(per_method["Reference (2 it) (no body)"], 2);
+  EXPECT_EQ(fixed_k, (std::vector<int64_t>{0, 2, 0, 2}));
+
+  const auto stages = read_csv(out + "/stages.csv");
+  ASSERT_EQ(stages.size(), 1u + 2u * 3u);  // Pb4U, MGN, Pb4U (no body) per level
+  for (size_t i = 1; i < stages.size(); ++i) {
+    for (size_t j = 7; j < stages[i].size(); ++j)
+      EXPECT_TRUE(std::isfinite(std::stod(stages[i][j]))) << stages[0][j] << " of " << stages[i][4];
+    if (stages[i][5] == "false") {  // without a body: no world edges, no world-edge query
+      EXPECT_EQ(stages[i][3], "0");
+      EXPECT_EQ(std::stod(stages[i][8]), 0.0);
+    } else {
+      EXPECT_GT(std::stoll(stages[i][3]), 0) << "the tiny scene's garment touches the body";
+    }
+  }
+  const std::string table = test::read_file(out + "/table.txt");
+  EXPECT_NE(table.find("Lv.3"), std::string::npos);
+  EXPECT_NE(table.find("at equal loss"), std::string::npos);
+  EXPECT_TRUE(fs::exists(out + "/bench_config.yaml"));
+}
+
+TEST(Bench, LatencyExponentIsTheLogLogSlope) {
+  std::vector<BenchRow> rows;
+  for (int64_t v : {100, 400, 1600, 6400}) {
+    BenchRow r;
+    r.method = "m";
+    r.vertices = v;
+    r.latency_ms_median = 0.02 * std::pow(double(v), 1.5);
+    rows.push_back(r);
+  }
+  EXPECT_NEAR(latency_exponent(rows, "m"), 1.5, 1e-12);
+  EXPECT_TRUE(std::isnan(latency_exponent(rows, "other")));
+}
+
+TEST(Bench, BadConfigsFailWithTheKey) {
+  const std::string out = test::temp_dir("bench_bad");
+  auto r = test::run_pb4u(bench_args(out, "--set ablations=[no_such]"));
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("ablations"), std::string::npos) << r.err;
+  r = test::run_pb4u(bench_args(out, "--set garment=cape"));
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("garment"), std::string::npos) << r.err;
+  r = test::run_pb4u(bench_args(out, "--set reference_iterations=[0]"));
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("reference_iterations"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(out + "/bench.csv"));
+}
+
+}  // namespace
+}  // namespace pb4u
