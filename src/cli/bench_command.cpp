@@ -57,16 +57,17 @@ void add_bench_command(CLI::App& app, const GlobalOptions& global) {
     apply_global_options(global);
     const BenchConfig config = load_config<BenchConfig>(args->config, args->sets);
     ensure_output_dir(args->out);
-    const BenchResult result = run_bench(config);
-    const std::string table = format_bench_table(result);
     const fs::path out(args->out);
-    write_text((out / "bench.csv").string(), format_bench_csv(result));
-    write_text((out / "bench_details.csv").string(), format_bench_details_csv(result));
-    write_text((out / "stages.csv").string(), format_stages_csv(result));
-    write_text((out / "table.txt").string(), table);
-    save_config(config, (out / "bench_config.yaml").string());
+    auto write_all = [&](const BenchResult& result) {
+      write_text((out / "bench.csv").string(), format_bench_csv(result));
+      write_text((out / "bench_details.csv").string(), format_bench_details_csv(result));
+      write_text((out / "stages.csv").string(), format_stages_csv(result));
+      write_text((out / "table.txt").string(), format_bench_table(result));
+      save_config(config, (out / "bench_config.yaml").string());
+    };
+    const BenchResult result = run_bench(config, write_all);
     plot(args->out);
-    std::cout << table;
+    std::cout << format_bench_table(result);
     spdlog::info("wrote bench.csv, bench_details.csv, stages.csv, table.txt and plots to {}", args->out);
   });
 }

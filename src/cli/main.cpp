@@ -3,5 +3,6 @@
 
 int main(int argc, char** argv) {
   pb4u::ensure_fast_runtime(argc, argv);  // may re-execute with OPENBLAS_CORETYPE, OMP_WAIT_POLICY set
+  pb4u::tune_allocator();
   return pb4u::run_cli(argc, argv);
 }

@@ -1,5 +1,6 @@
 #include "pb4u/eval/bench.h"
 
+#include <spdlog/spdlog.h>
 #include <torch/torch.h>
 
 #include <algorithm>
@@ -62,21 +63,35 @@ std::string number(double v) {
   return s;
 }
 
-// Dense float matmul rate (GFLOP/s) of an m x k by k x n product, median of `repeats`.
-double dense_matmul_gflops(const std::vector<int>& size, int repeats) {
-  if (size.size() != 3 || size[0] < 1 || size[1] < 1 || size[2] < 1)
-    throw Error("matmul_size: expected three positive sizes [m, k, n]");
-  c10::InferenceMode guard;
-  auto a = torch::randn({size[0], size[1]}), b = torch::randn({size[1], size[2]});
-  auto c = torch::mm(a, b);  // warm-up: BLAS buffers, page faults
-  std::vector<double> ms;
-  for (int r = 0; r < repeats; ++r) {
-    auto t0 = Clock::now();
-    torch::mm_out(c, a, b);
-    ms.push_back(ms_since(t0));
+// Dense float matmul of an m x k by k x n product, timed one product at a time.
+class DenseMatmul {
+ public:
+  explicit DenseMatmul(const std::vector<int>& size) {
+    if (size.size() != 3 || size[0] < 1 || size[1] < 1 || size[2] < 1)
+      throw Error("matmul_size: expected three positive sizes [m, k, n]");
+    c10::InferenceMode guard;
+    a_ = torch::randn({size[0], size[1]});
+    b_ = torch::randn({size[1], size[2]});
+    c_ = torch::mm(a_, b_);  // warm-up: BLAS buffers, page faults
+    flops_ = 2.0 * double(size[0]) * double(size[1]) * double(size[2]);
   }
-  return 2.0 * double(size[0]) * double(size[1]) * double(size[2]) / (median(ms) * 1e6);
-}
+  // GFLOP/s of one product.
+  double gflops() {
+    c10::InferenceMode guard;
+    auto t0 = Clock::now();
+    torch::mm_out(c_, a_, b_);
+    return flops_ / (ms_since(t0) * 1e6);
+  }
+  double median_gflops(int repeats) {
+    std::vector<double> g;
+    for (int r = 0; r < repeats; ++r) g.push_back(gflops());
+    return median(g);
+  }
+
+ private:
+  torch::Tensor a_, b_, c_;
+  double flops_ = 0;
+};
 
 // Matmul FLOPs of propagation + update + blocks as the split-first-layer code computes them
 // (model/mlp.cpp): node terms once per node, edge terms per edge, then the remaining layers.
@@ -118,8 +133,10 @@ FrameState first_state(const RolloutInput& in) {
 }
 
 // One network frame split into its stages, median over `repeats` (after one warm-up).
+// The dense matmul is timed in each repeat too, so the FLOP-rate ratio compares the two under
+// the same machine load.
 StageRow time_stages(Pb4uNet& net, const GarmentTopology& topology, const RolloutInput& in,
-                     const PhysicsConfig& physics, int repeats) {
+                     const PhysicsConfig& physics, int repeats, DenseMatmul& matmul) {
   c10::InferenceMode guard;
   const FrameState state = first_state(in);
   const ClothGeometry cloth = make_cloth_geometry(in.garment_rest, torch::kFloat64, torch::kCPU, false,
@@ -127,7 +144,7 @@ StageRow time_stages(Pb4uNet& net, const GarmentTopology& topology, const Rollou
   const TermList terms = build_terms(in.effects, physics);
   const GraphOptions options = net->config.graph_options();
   const int64_t K = net->propagation_steps_for(topology.mean_edge_length);
-  std::vector<double> graph, world, encode, propagate, blocks, decode, euler, contact, physics_ms;
+  std::vector<double> graph, world, encode, propagate, blocks, decode, euler, contact, physics_ms, dense;
   StageRow row;
   for (int r = 0; r <= repeats; ++r) {
     double world_ms = 0;
@@ -168,6 +185,7 @@ StageRow time_stages(Pb4uNet& net, const GarmentTopology& topology, const Rollou
     euler.push_back(euler_ms);
     contact.push_back(contact_ms);
     physics_ms.push_back(physics_terms_ms);
+    dense.push_back(matmul.gflops());
   }
   row.vertices = topology.num_vertices;
   row.with_body = in.effects.needs_body();
@@ -183,6 +201,7 @@ StageRow time_stages(Pb4uNet& net, const GarmentTopology& topology, const Rollou
   row.physics_terms = median(physics_ms);
   // Propagation + update + blocks: the message passing whose FLOP rate is compared to BLAS.
   row.message_passing_gflops /= (row.propagate + row.blocks) * 1e6;
+  row.matmul_gflops = median(dense);
   return row;
 }
 
@@ -252,7 +271,7 @@ const MotionRecord& find_motion(const Dataset& data, const BenchConfig& config) 
 
 }  // namespace
 
-BenchResult run_bench(const BenchConfig& config) {
+BenchResult run_bench(const BenchConfig& config, const std::function<void(const BenchResult&)>& on_level) {
   if (config.levels.empty()) throw Error("levels: no level to benchmark");
   for (const auto& a : config.ablations)
     if (a != "no_update_scaling" && a != "no_propagation_control")
@@ -300,12 +319,14 @@ BenchResult run_bench(const BenchConfig& config) {
   BenchResult result;
   result.threads = torch::get_num_threads();
   result.blas_core = blas_core_name();
-  result.matmul_gflops = dense_matmul_gflops(config.matmul_size, 7);
+  DenseMatmul matmul(config.matmul_size);
+  result.matmul_gflops = matmul.median_gflops(7);
 
   for (int level : config.levels) {
     if (level < 1 || level > int(garment->levels.size()))
       throw Error("levels: level " + std::to_string(level) + " is not in " + config.dataset + " (it has " +
                   std::to_string(garment->levels.size()) + " levels)");
+    const auto level_start = Clock::now();
     const Garment& g = garment->levels[level - 1];
     const GarmentTopology topology = build_garment_topology(g.mesh, g.name);
     const RolloutInput body_input = lbs_rollout_input(record->body, g, motion.motion, config.start_frame, steps,
@@ -327,7 +348,11 @@ BenchResult run_bench(const BenchConfig& config) {
     const int stage_runs = int(models.size()) + (config.no_body_variant && effects.needs_body() && !models.empty());
     Progress bar("Lv." + std::to_string(level), int64_t(runs.size()) + stage_runs, "run");
     for (const Run& run : runs) {
+      const auto run_start = Clock::now();
       BenchRow row = run_one(run, body_input, free_input, topology, config);
+      spdlog::debug("Lv.{} {}: K {}, {} frames, {:.1f} ms/frame, loss {:.4g} J ({:.1f} s)", level, run.method, row.K,
+                    row.frames, row.latency_ms_median, row.physics_loss,
+                    std::chrono::duration<double>(Clock::now() - run_start).count());
       row.level = level;
       row.triangles = g.mesh.F.rows();
       row.vertices = g.mesh.V.rows();
@@ -337,7 +362,7 @@ BenchResult run_bench(const BenchConfig& config) {
     }
     auto add_stages = [&](const ModelFile& m, const std::string& name, const RolloutInput& in) {
       Pb4uNet net = m.model;
-      StageRow s = time_stages(net, topology, in, config.physics, config.stage_repeats);
+      StageRow s = time_stages(net, topology, in, config.physics, config.stage_repeats, matmul);
       s.level = level;
       s.method = name;
       result.stages.push_back(s);
@@ -347,6 +372,9 @@ BenchResult run_bench(const BenchConfig& config) {
     if (config.no_body_variant && effects.needs_body() && !models.empty())
       add_stages(models[0], names[0] + " (no body)", free_input);
     bar.finish();
+    spdlog::info("Lv.{} ({} triangles): {} runs and {} stage breakdowns in {:.0f} s", level, g.mesh.F.rows(),
+                 runs.size(), stage_runs, std::chrono::duration<double>(Clock::now() - level_start).count());
+    if (on_level) on_level(result);
   }
   return result;
 }
@@ -386,14 +414,15 @@ std::string format_bench_details_csv(const BenchResult& result) {
 std::string format_stages_csv(const BenchResult& result) {
   std::ostringstream out;
   out << "level,vertices,mesh_edges,world_edges,method,body,K,graph_build_ms,world_edge_query_ms,encode_ms,"
-         "propagate_ms,blocks_ms,decode_ms,euler_ms,contact_query_ms,physics_terms_ms,message_passing_gflops\n";
+         "propagate_ms,blocks_ms,decode_ms,euler_ms,contact_query_ms,physics_terms_ms,message_passing_gflops,"
+         "matmul_gflops\n";
   for (const auto& s : result.stages)
     out << s.level << ',' << s.vertices << ',' << s.mesh_edges << ',' << s.world_edges << ','
         << csv_field(s.method) << ',' << (s.with_body ? "true" : "false") << ',' << s.K << ','
         << number(s.graph_build) << ',' << number(s.world_edge_query) << ',' << number(s.encode) << ','
         << number(s.propagate) << ',' << number(s.blocks) << ',' << number(s.decode) << ','
         << number(s.euler) << ',' << number(s.contact_query) << ',' << number(s.physics_terms) << ','
-        << number(s.message_passing_gflops) << '\n';
+        << number(s.message_passing_gflops) << ',' << number(s.matmul_gflops) << '\n';
   return out.str();
 }
 
@@ -464,11 +493,12 @@ std::string format_bench_table(const BenchResult& result) {
                     s.contact_query, s.physics_terms, s.message_passing_gflops);
       out << line;
     }
-    out << "  dense matmul (same threads): " << fixed(result.matmul_gflops, 1) << " GFLOP/s\n";
+    out << "  dense matmul (same threads, at start): " << fixed(result.matmul_gflops, 1) << " GFLOP/s\n";
     for (const auto& s : result.stages)
       if (s.with_body)
-        out << "  Lv." << s.level << " " << s.method << ": message passing at "
-            << fixed(100.0 * s.message_passing_gflops / result.matmul_gflops, 0) << "% of the dense matmul rate\n";
+        out << "  Lv." << s.level << " " << s.method << ": message passing " << fixed(s.message_passing_gflops, 1)
+            << " GFLOP/s = " << fixed(100.0 * s.message_passing_gflops / s.matmul_gflops, 0)
+            << "% of the dense matmul's " << fixed(s.matmul_gflops, 1) << " GFLOP/s timed alongside\n";
   }
 
   // Speed-up over the reference solver at equal loss: the cheapest reference run whose loss is

@@ -44,6 +44,9 @@ std::string better_core_type(const std::string& detected) {
 
 // OMP_WAIT_POLICY set when the user has none (see ensure_fast_runtime).
 constexpr const char* kDefaultOmpWaitPolicy = "PASSIVE";
+// Blocks below this size come from (and return to) the heap, not mmap (see tune_allocator).
+constexpr int kMallocKeepBytes = 1 << 30;
+bool allocator_tuned = false;
 
 }  // namespace
 
@@ -81,6 +84,13 @@ void ensure_fast_runtime(int argc, char** argv) {
   // execv only returns on failure: carry on with the defaults.
 }
 
+void tune_allocator() {
+  if (const char* off = std::getenv("PB4U_DEFAULT_MALLOC"); off && *off && std::strcmp(off, "0")) return;
+  // glibc serves multi-MB blocks with mmap and unmaps them on free, so every message-passing
+  // layer page-faults its output afresh; keeping freed memory in the heap avoids that.
+  allocator_tuned = mallopt(M_MMAP_THRESHOLD, kMallocKeepBytes) == 1 && mallopt(M_TRIM_THRESHOLD, kMallocKeepBytes) == 1;
+}
+
 int configure_threads(int requested) {
   int n = requested > 0 ? requested : static_cast<int>(std::thread::hardware_concurrency());
   if (n <= 0) n = 1;
@@ -90,8 +100,9 @@ int configure_threads(int requested) {
 
 void log_runtime_info() {
   const char* wait = std::getenv("OMP_WAIT_POLICY");
-  spdlog::info("runtime: BLAS core {}, {} torch threads (OpenMP wait policy {}), libtorch {}", blas_core_name(),
-               torch::get_num_threads(), wait ? wait : "default", TORCH_VERSION);
+  spdlog::info("runtime: BLAS core {}, {} torch threads (OpenMP wait policy {}), malloc {}, libtorch {}",
+               blas_core_name(), torch::get_num_threads(), wait ? wait : "default",
+               allocator_tuned ? "tuned" : "default", TORCH_VERSION);
 }
 
 }  // namespace pb4u

@@ -2,7 +2,6 @@
 // decoder) for the CPU-scale and paper-scale model configs, median of repeated runs, with the
 // per-edge first layer split (node terms once per node, gathered) and concatenated.
 // Usage: model_bench [repeats] [scale: cpu|paper|all] [threads, 0 = all cores]
-#include <malloc.h>
 #include <torch/torch.h>
 
 #include <algorithm>
@@ -114,14 +113,9 @@ void run(const Scale& scale, const std::string& kind, int repeats) {
 
 int main(int argc, char** argv) {
   pb4u::ensure_fast_runtime(argc, argv);
-  // glibc serves the multi-MB activations with mmap and returns them on free, so every layer
-  // page-faults its output afresh; keeping freed memory in the heap is worth ~30% here.
-  // PB4U_DEFAULT_MALLOC=1 measures without it.
+  // PB4U_DEFAULT_MALLOC=1 measures with glibc's default allocator settings.
   const bool tune_malloc = !std::getenv("PB4U_DEFAULT_MALLOC");
-  if (tune_malloc) {
-    mallopt(M_MMAP_THRESHOLD, 1 << 30);
-    mallopt(M_TRIM_THRESHOLD, 1 << 30);
-  }
+  pb4u::tune_allocator();
   const int repeats = argc > 1 ? std::atoi(argv[1]) : 7;
   const std::string which = argc > 2 ? argv[2] : "all";
   const int threads = pb4u::configure_threads(argc > 3 ? std::atoi(argv[3]) : 0);

@@ -6,6 +6,7 @@
 // mean per frame; total and positive part) and the per-frame latency (median and min over the
 // frames after warm-up). A per-stage breakdown of one frame shows where the time goes, and a
 // variant without a body shows what skipping world edges and contact saves.
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -90,6 +91,7 @@ struct StageRow {
   double graph_build = 0, world_edge_query = 0, encode = 0, propagate = 0, blocks = 0,
          decode = 0, euler = 0, contact_query = 0, physics_terms = 0;
   double message_passing_gflops = 0;  // matmul FLOP rate of propagation + update + blocks
+  double matmul_gflops = 0;           // dense matmul (config.matmul_size), timed in the same repeats
 };
 
 struct BenchResult {
@@ -101,8 +103,10 @@ struct BenchResult {
   double matmul_gflops = 0;  // dense float matmul of config.matmul_size, median, same threads
 };
 
-// Runs the benchmark (progress bar per level). Throws pb4u::Error on bad config / data.
-BenchResult run_bench(const BenchConfig& config);
+// Runs the benchmark (progress bar per level); `on_level`, if given, sees the rows so far after
+// each level (the CLI writes its files then, so a long run leaves results as it goes). Throws
+// pb4u::Error on bad config / data.
+BenchResult run_bench(const BenchConfig& config, const std::function<void(const BenchResult&)>& on_level = {});
 
 // SPEC 7: level,triangles,vertices,method,K,threads,latency_ms_median,latency_ms_min,physics_loss
 std::string format_bench_csv(const BenchResult& result);

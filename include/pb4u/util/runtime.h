@@ -18,6 +18,10 @@ void ensure_fast_runtime(int argc, char** argv);
 // The BLAS core in use, e.g. "SkylakeX", or "reference" when libblas.so.3 is not OpenBLAS.
 std::string blas_core_name();
 
+// Keeps freed large blocks in the heap instead of returning them to the OS (glibc mallopt), so
+// per-frame activations do not page-fault afresh. PB4U_DEFAULT_MALLOC=1 keeps glibc's defaults.
+void tune_allocator();
+
 // Sets torch's intra-op threads (0 = all cores) and returns the count in use.
 int configure_threads(int requested);
 
