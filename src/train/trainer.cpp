@@ -320,6 +320,7 @@ StepResult Trainer::train_step() {
 
   // Every rank holds the same sums now, so every rank makes the same decisions below.
   const double samples = total[1];
+  result.samples = static_cast<int64_t>(samples);
   if (warmup) set_normaliser_statistics(*model_, stats_start + stats_added);
   result.loss = total[0] / samples;
   for (int64_t k = 0; k < n_terms; ++k)
@@ -372,7 +373,8 @@ void Trainer::run(int64_t stop_at) {
     std::vector<std::pair<std::string, double>> row{
         {"loss", s.loss}, {"lr", s.lr}, {"seconds", elapsed_seconds_}, {"step_seconds", s.seconds},
         {"rollout", double(s.rollout)}, {"K", double(s.K)},
-        {"collision_weight", s.collision_weight}, {"skipped_steps", double(skipped_steps_)}};
+        {"collision_weight", s.collision_weight}, {"skipped_steps", double(skipped_steps_)},
+        {"samples", double(s.samples)}};
     row.insert(row.end(), s.terms.begin(), s.terms.end());
     metrics.write(s.step, row);
     char status[96];

@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -206,6 +207,31 @@ TEST(Distributed, TwoRanksTrainLikeOneProcessOverTheCombinedBatchThroughAResume)
         ASSERT_EQ(a[i][k].first, b[i][k].first);
         EXPECT_NEAR(a[i][k].second, b[i][k].second, 1e-6 * (1 + std::abs(a[i][k].second))) << a[i][k].first;
       }
+}
+
+int run_script(const std::string& args, const std::string& log) {
+  const std::string cmd = "PB4U=" + std::string(PB4U_BINARY) + " MASTER_PORT=" + std::to_string(free_port()) +
+                          " THREADS=1 " + kSource + "/scripts/train_ddp.sh " + args + " >" + log + " 2>&1";
+  const int status = std::system(cmd.c_str());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 128;
+}
+
+TEST(Distributed, ScriptStartsTheRanksResumesThemAndReportsAFailure) {
+  const std::string dir = test::temp_dir("ddp_script");
+  const std::string args = "2 --config " + kSource + "/configs/train/tiny.yaml --set data.dataset=" +
+                           test::tiny_dataset() + " --set run.checkpoint_every=2 --out " + dir + "/run";
+  ASSERT_EQ(run_script(args + " --set run.steps=4", dir + "/log1"), 0) << test::read_file(dir + "/log1");
+  ASSERT_EQ(run_script(args + " --set run.steps=6 --resume", dir + "/log2"), 0) << test::read_file(dir + "/log2");
+  auto rows = read_metrics(dir + "/run/metrics.jsonl");
+  ASSERT_EQ(rows.size(), 6u);
+  for (size_t i = 0; i < rows.size(); ++i) {
+    EXPECT_EQ(rows[i][0].second, double(i + 1));
+    for (const auto& [key, value] : rows[i])
+      if (key == "samples") EXPECT_EQ(value, 2.0);
+  }
+  EXPECT_TRUE(fs::exists(dir + "/run/final.pt"));
+  EXPECT_NE(run_script(args + " --set model.widht=3", dir + "/log3"), 0);
+  EXPECT_NE(test::read_file(dir + "/log3").find("model.widht"), std::string::npos);
 }
 
 size_t lines_in(const std::string& path) {

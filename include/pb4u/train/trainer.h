@@ -49,6 +49,7 @@ struct StepResult {
   double lr = 0, seconds = 0, collision_weight = 0;
   int rollout = 1;
   int64_t K = 0;
+  int64_t samples = 1;              // the step's batch over all ranks
   bool skipped = false;             // non-finite loss or gradient on any rank: no update
 };
 
