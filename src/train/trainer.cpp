@@ -150,14 +150,18 @@ void Trainer::start_group(bool resume) {
         if (distributed) checkpoint_bytes = read_binary_file(latest);
         spdlog::info("resumed {} at step {}", latest, step_);
       }
-      ensure_output_dir(ckpt_dir);
-      write_text_file(config_.run.out + "/config.yaml", config_yaml_);
     } catch (const Error& e) {
       if (!distributed) throw;
       problem = e.what();
     }
   }
-  if (!distributed) return;
+  // The run directory is written once the whole group has agreed to start.
+  auto write_run_dir = [&] {
+    if (!is_root()) return;
+    ensure_output_dir(ckpt_dir);
+    write_text_file(config_.run.out + "/config.yaml", config_yaml_);
+  };
+  if (!distributed) return write_run_dir();
 
   problem = group_->broadcast_bytes(problem);
   if (!problem.empty()) throw Error(is_root() ? problem : "rank 0 could not start the run: " + problem);
@@ -193,6 +197,7 @@ void Trainer::start_group(bool resume) {
     group_->broadcast(data);
   }
   for (auto& b : model_->buffers()) group_->broadcast(b);
+  write_run_dir();
 }
 
 Trainer::SampleResult Trainer::train_sample(std::mt19937_64& rng, int rollout, double collision_weight) {

@@ -120,13 +120,12 @@ TEST(Distributed, BadOptionsAndAMissingRankAreOneLineErrors) {
   EXPECT_LT(seconds, 15) << m;
 }
 
-TrainConfig tiny_config(const std::string& out, std::vector<std::string> sets = {}) {
-  sets.push_back("data.dataset=" + test::tiny_dataset());
-  sets.push_back("run.out=" + out);
+TrainConfig tiny_config(const std::string& out, const std::vector<std::string>& overrides = {}) {
   // Short enough for a test, long enough to see the normaliser warm-up end (10 forwards) and
   // rollouts of two steps.
-  for (const char* s : {"run.steps=6", "run.checkpoint_every=3", "curriculum.steps_per_increase=2"})
-    sets.push_back(s);
+  std::vector<std::string> sets{"run.steps=6", "run.checkpoint_every=3", "curriculum.steps_per_increase=2",
+                                "data.dataset=" + test::tiny_dataset(), "run.out=" + out};
+  sets.insert(sets.end(), overrides.begin(), overrides.end());
   return load_config<TrainConfig>(kSource + "/configs/train/tiny.yaml", sets);
 }
 
@@ -207,6 +206,43 @@ TEST(Distributed, TwoRanksTrainLikeOneProcessOverTheCombinedBatchThroughAResume)
         ASSERT_EQ(a[i][k].first, b[i][k].first);
         EXPECT_NEAR(a[i][k].second, b[i][k].second, 1e-6 * (1 + std::abs(a[i][k].second))) << a[i][k].first;
       }
+}
+
+// Starts a Trainer on each of two ranks (threads) with its own config; returns each rank's error.
+std::vector<std::string> start_errors(const TrainConfig& c0, const TrainConfig& c1, const TrainingData& data) {
+  std::vector<std::string> errors(2);
+  const int port = free_port();
+  std::vector<std::thread> ranks;
+  for (int r = 0; r < 2; ++r)
+    ranks.emplace_back([&, r] {
+      const TrainConfig& c = r == 0 ? c0 : c1;
+      try {
+        Trainer trainer(c, config_to_yaml(c), data, false,
+                        std::make_shared<DistributedGroup>(options(2, r, port, 10)));
+      } catch (const Error& e) {
+        errors[r] = e.what();
+      }
+    });
+  for (auto& t : ranks) t.join();
+  return errors;
+}
+
+TEST(Distributed, RanksRefuseToStartTogetherOnAnotherConfigOrAnOccupiedRun) {
+  configure_threads(1);
+  const std::string root = test::temp_dir("ddp_refuse");
+  TrainConfig c = tiny_config(root + "/run", {"run.checkpoint_every=1", "run.steps=1"});
+  TrainingData data = load_training_data(c.data);
+  TrainConfig other = c;
+  other.run.seed = 1;
+  for (const auto& e : start_errors(c, other, data))
+    EXPECT_NE(e.find("another training config than rank 0"), std::string::npos) << e;
+  EXPECT_FALSE(fs::exists(root + "/run/config.yaml"));  // a group that never started writes nothing
+  // rank 0's verdict on its run directory reaches rank 1.
+  Trainer(c, config_to_yaml(c), data, false).run();
+  auto errors = start_errors(c, c, data);
+  EXPECT_NE(errors[0].find("already holds checkpoints"), std::string::npos) << errors[0];
+  EXPECT_EQ(errors[1].rfind("rank 0 could not start the run: ", 0), 0u) << errors[1];
+  EXPECT_NE(errors[1].find("already holds checkpoints"), std::string::npos) << errors[1];
 }
 
 int run_script(const std::string& args, const std::string& log) {
