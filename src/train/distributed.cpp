@@ -14,6 +14,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <functional>
+#include <sstream>
 
 #include "pb4u/util/error.h"
 
@@ -57,10 +58,31 @@ std::pair<std::string, int> parse_host_port(const std::string& text, const std::
   return {text.substr(0, colon), port};
 }
 
+namespace {
+
+// "1.5 s", "300 s".
+std::string seconds_text(double seconds) {
+  std::ostringstream s;
+  s << seconds << " s";
+  return s.str();
+}
+
+// The options' one-line errors, before any socket is opened; returns the master's host, port.
+std::pair<std::string, int> check_options(const DistributedOptions& o) {
+  if (o.world_size < 1) throw Error("--world-size: must be at least 1, got " + std::to_string(o.world_size));
+  if (o.rank < 0 || o.rank >= o.world_size)
+    throw Error("--rank: must be in 0.." + std::to_string(o.world_size - 1) + ", got " + std::to_string(o.rank));
+  if (!(o.timeout_seconds > 0)) throw Error("--timeout: must be positive, got " + seconds_text(o.timeout_seconds));
+  return parse_host_port(o.master, "--master");
+}
+
+}  // namespace
+
 #ifdef PB4U_NO_GLOO
 struct DistributedGroup::Impl {};
 
 DistributedGroup::DistributedGroup(const DistributedOptions& options) : options_(options) {
+  check_options(options_);
   if (options_.world_size != 1)
     throw Error("--world-size: this pb4u was built without Gloo (libgloo-dev), so it trains in one process only");
 }
@@ -83,21 +105,14 @@ struct DistributedGroup::Impl {
       start()->wait();
     } catch (const std::exception& e) {
       throw Error("distributed " + std::string(what) + " failed on " + where +
-                  ": another rank died or did not answer within " +
-                  std::to_string(static_cast<int>(timeout_seconds)) + " s (" + first_line(e) + ")");
+                  ": another rank died or did not answer within " + seconds_text(timeout_seconds) + " (" +
+                  first_line(e) + ")");
     }
   }
 };
 
 DistributedGroup::DistributedGroup(const DistributedOptions& options) : options_(options) {
-  if (options_.world_size < 1)
-    throw Error("--world-size: must be at least 1, got " + std::to_string(options_.world_size));
-  if (options_.rank < 0 || options_.rank >= options_.world_size)
-    throw Error("--rank: must be in 0.." + std::to_string(options_.world_size - 1) + ", got " +
-                std::to_string(options_.rank));
-  if (!(options_.timeout_seconds > 0))
-    throw Error("--timeout: must be positive, got " + std::to_string(options_.timeout_seconds));
-  const auto [host, port] = parse_host_port(options_.master, "--master");
+  const auto [host, port] = check_options(options_);
   if (options_.world_size == 1) return;
 
   impl_ = std::make_unique<Impl>();
@@ -119,8 +134,8 @@ DistributedGroup::DistributedGroup(const DistributedOptions& options) : options_
     throw;
   } catch (const std::exception& e) {
     throw Error("--master " + options_.master + ": " + impl_->where + " could not join a group of " +
-                std::to_string(options_.world_size) + " ranks within " +
-                std::to_string(static_cast<int>(options_.timeout_seconds)) + " s (" + first_line(e) + ")");
+                std::to_string(options_.world_size) + " ranks within " + seconds_text(options_.timeout_seconds) +
+                " (" + first_line(e) + ")");
   }
 }
 
@@ -131,7 +146,10 @@ void DistributedGroup::all_reduce_sum(torch::Tensor& t) {
   torch::Tensor host = t.is_cpu() && t.is_contiguous() ? t : t.to(torch::kCPU).contiguous();
   std::vector<at::Tensor> tensors{host};
   impl_->run("all-reduce", [&] { return impl_->group->allreduce(tensors); }, options_.timeout_seconds);
-  if (!host.is_same(t)) t.copy_(host);
+  if (!host.is_same(t)) {
+    torch::NoGradGuard no_grad;
+    t.copy_(host);
+  }
 }
 
 void DistributedGroup::all_reduce_mean(std::vector<torch::Tensor>& tensors) {
