@@ -165,12 +165,18 @@ void Trainer::start_group(bool resume) {
 
   problem = group_->broadcast_bytes(problem);
   if (!problem.empty()) throw Error(is_root() ? problem : "rank 0 could not start the run: " + problem);
-  // Ranks with different configs would train different things under one name.
-  torch::Tensor mismatch = torch::tensor({group_->broadcast_bytes(config_yaml_) == config_yaml_ ? 0L : 1L});
-  group_->all_reduce_sum(mismatch);
-  if (mismatch.item<int64_t>() > 0)
-    throw Error("rank " + std::to_string(group_->rank()) + ": " + std::to_string(mismatch.item<int64_t>()) +
+  // Ranks with different configs would train different things under one name; a --resume
+  // on some ranks only would pair different collectives.
+  torch::Tensor votes = torch::tensor({group_->broadcast_bytes(config_yaml_) == config_yaml_ ? 0L : 1L,
+                                       resume ? 1L : 0L});
+  group_->all_reduce_sum(votes);
+  const int64_t other_configs = votes[0].item<int64_t>(), resuming = votes[1].item<int64_t>();
+  if (other_configs > 0)
+    throw Error("rank " + std::to_string(group_->rank()) + ": " + std::to_string(other_configs) +
                 " rank(s) run another training config than rank 0; every rank must get the same --config and --set");
+  if (resuming != 0 && resuming != group_->world_size())
+    throw Error("--resume: given to " + std::to_string(resuming) + " of " + std::to_string(group_->world_size()) +
+                " ranks; give it to every rank or to none");
   if (resume) {
     checkpoint_bytes = group_->broadcast_bytes(checkpoint_bytes);
     if (!is_root()) {

@@ -209,7 +209,8 @@ TEST(Distributed, TwoRanksTrainLikeOneProcessOverTheCombinedBatchThroughAResume)
 }
 
 // Starts a Trainer on each of two ranks (threads) with its own config; returns each rank's error.
-std::vector<std::string> start_errors(const TrainConfig& c0, const TrainConfig& c1, const TrainingData& data) {
+std::vector<std::string> start_errors(const TrainConfig& c0, const TrainConfig& c1, const TrainingData& data,
+                                      bool resume0 = false, bool resume1 = false) {
   std::vector<std::string> errors(2);
   const int port = free_port();
   std::vector<std::thread> ranks;
@@ -217,7 +218,7 @@ std::vector<std::string> start_errors(const TrainConfig& c0, const TrainConfig& 
     ranks.emplace_back([&, r] {
       const TrainConfig& c = r == 0 ? c0 : c1;
       try {
-        Trainer trainer(c, config_to_yaml(c), data, false,
+        Trainer trainer(c, config_to_yaml(c), data, r == 0 ? resume0 : resume1,
                         std::make_shared<DistributedGroup>(options(2, r, port, 10)));
       } catch (const Error& e) {
         errors[r] = e.what();
@@ -227,7 +228,7 @@ std::vector<std::string> start_errors(const TrainConfig& c0, const TrainConfig& 
   return errors;
 }
 
-TEST(Distributed, RanksRefuseToStartTogetherOnAnotherConfigOrAnOccupiedRun) {
+TEST(Distributed, RanksRefuseToStartOnAnotherConfigAnOccupiedRunOrAPartialResume) {
   configure_threads(1);
   const std::string root = test::temp_dir("ddp_refuse");
   TrainConfig c = tiny_config(root + "/run", {"run.checkpoint_every=1", "run.steps=1"});
@@ -243,6 +244,8 @@ TEST(Distributed, RanksRefuseToStartTogetherOnAnotherConfigOrAnOccupiedRun) {
   EXPECT_NE(errors[0].find("already holds checkpoints"), std::string::npos) << errors[0];
   EXPECT_EQ(errors[1].rfind("rank 0 could not start the run: ", 0), 0u) << errors[1];
   EXPECT_NE(errors[1].find("already holds checkpoints"), std::string::npos) << errors[1];
+  for (const auto& e : start_errors(c, c, data, /*resume0=*/true, /*resume1=*/false))
+    EXPECT_NE(e.find("--resume: given to 1 of 2 ranks"), std::string::npos) << e;
 }
 
 int run_script(const std::string& args, const std::string& log) {
