@@ -79,6 +79,8 @@ std::pair<std::string, int> check_options(const DistributedOptions& o) {
 }  // namespace
 
 #ifdef PB4U_NO_GLOO
+bool distributed_available() { return false; }
+
 struct DistributedGroup::Impl {};
 
 DistributedGroup::DistributedGroup(const DistributedOptions& options) : options_(options) {
@@ -93,6 +95,8 @@ void DistributedGroup::broadcast(torch::Tensor&, int) {}
 std::string DistributedGroup::broadcast_bytes(const std::string& bytes, int) { return bytes; }
 void DistributedGroup::barrier() {}
 #else
+bool distributed_available() { return true; }
+
 struct DistributedGroup::Impl {
   c10::intrusive_ptr<c10d::Store> store;
   c10::intrusive_ptr<c10d::ProcessGroupGloo> group;

@@ -73,6 +73,7 @@ void on_ranks(int world, const std::function<void(int)>& fn) {
 }
 
 TEST(Distributed, CollectivesGiveSumsMeansAndRootValues) {
+  if (!distributed_available()) GTEST_SKIP() << "built without Gloo";
   const int port = free_port(), world = 3;
   std::vector<std::vector<double>> sums(world), means(world);
   std::vector<std::string> bytes(world);
@@ -111,6 +112,10 @@ TEST(Distributed, BadOptionsAndAMissingRankAreOneLineErrors) {
     EXPECT_NE(message(o).find("--master"), std::string::npos) << bad;
   }
   EXPECT_EQ(parse_host_port("10.0.0.2:1234", "--master"), std::make_pair(std::string("10.0.0.2"), 1234));
+  if (!distributed_available()) {
+    EXPECT_NE(message(options(2, 0, 29500)).find("without Gloo"), std::string::npos);
+    return;
+  }
   // Rank 0 alone in a group of two: an error naming the master after the timeout, no hang.
   auto t0 = Clock::now();
   std::string m = message(options(2, 0, free_port(), 1.5));
@@ -170,6 +175,7 @@ double max_difference(const Tensors& a, const Tensors& b) {
 }
 
 TEST(Distributed, TwoRanksTrainLikeOneProcessOverTheCombinedBatchThroughAResume) {
+  if (!distributed_available()) GTEST_SKIP() << "built without Gloo";
   configure_threads(1);
   const std::string root = test::temp_dir("ddp_equal");
   TrainConfig single_cfg = tiny_config(root + "/single", {"run.batch=2"});
@@ -229,6 +235,7 @@ std::vector<std::string> start_errors(const TrainConfig& c0, const TrainConfig& 
 }
 
 TEST(Distributed, RanksRefuseToStartOnAnotherConfigAnOccupiedRunOrAPartialResume) {
+  if (!distributed_available()) GTEST_SKIP() << "built without Gloo";
   configure_threads(1);
   const std::string root = test::temp_dir("ddp_refuse");
   TrainConfig c = tiny_config(root + "/run", {"run.checkpoint_every=1", "run.steps=1"});
@@ -256,6 +263,7 @@ int run_script(const std::string& args, const std::string& log) {
 }
 
 TEST(Distributed, ScriptStartsTheRanksResumesThemAndReportsAFailure) {
+  if (!distributed_available()) GTEST_SKIP() << "built without Gloo";
   const std::string dir = test::temp_dir("ddp_script");
   const std::string args = "2 --config " + kSource + "/configs/train/tiny.yaml --set data.dataset=" +
                            test::tiny_dataset() + " --set run.checkpoint_every=2 --out " + dir + "/run";
@@ -279,6 +287,7 @@ size_t lines_in(const std::string& path) {
 }
 
 TEST(Distributed, KillingOneRankMakesTheOtherFailWithinTheTimeout) {
+  if (!distributed_available()) GTEST_SKIP() << "built without Gloo";
   const std::string dir = test::temp_dir("ddp_kill");
   const double timeout = 5;
   const std::string cmd = std::string(PB4U_BINARY) + " -q --threads 1 train --config " + kSource +

@@ -54,6 +54,9 @@ class DistributedGroup {
   std::unique_ptr<Impl> impl_;  // null for a group of one
 };
 
+// False when this pb4u was built without Gloo's headers (then only groups of one exist).
+bool distributed_available();
+
 // "HOST:PORT" -> (host, port); pb4u::Error naming `option` on anything else.
 std::pair<std::string, int> parse_host_port(const std::string& text, const std::string& option);
 
