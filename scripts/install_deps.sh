@@ -7,6 +7,8 @@ PACKAGES=(
   cmake ninja-build g++ pkg-config ccache
   libtorch-dev libeigen3-dev libhdf5-dev libassimp-dev libcli11-dev libspdlog-dev
   libyaml-cpp-dev libgtest-dev libnanoflann-dev
+  # Headers of Gloo, the transport of libtorch's c10d ProcessGroupGloo (data-parallel training).
+  libgloo-dev
   # Isotropic remeshing of bodies and garments to a target triangle count (header-only; GMP/MPFR kernel).
   libcgal-dev libgmp-dev libmpfr-dev libboost-dev
   # libtorch links libblas.so.3; without this it resolves to the reference BLAS (19x slower).

@@ -5,6 +5,7 @@
 
 #include "pb4u/cli/commands.h"
 #include "pb4u/eval/evaluate.h"
+#include "pb4u/util/device.h"
 #include "pb4u/util/error.h"
 
 namespace pb4u {
@@ -16,6 +17,7 @@ void add_evaluate_command(CLI::App& app, const GlobalOptions& global) {
       "frame, at each level, and print the physics terms per frame (Table 1 layout). A rollout\n"
       "that goes non-finite is reported as diverged at frame N; averages use finite frames.");
   struct Args {
+    std::string device = "cpu";
     std::vector<std::string> checkpoints, names, methods, sets;
     std::string config, format = "table";
   };
@@ -27,11 +29,14 @@ void add_evaluate_command(CLI::App& app, const GlobalOptions& global) {
   cmd->add_option("--config,-c", args->config, "Evaluation config (configs/eval/*.yaml)");
   cmd->add_option("--set", args->sets, "Override a config key, e.g. --set max_frames=10 (repeatable)");
   cmd->add_option("--format", args->format, "table | csv | json")->check(CLI::IsMember({"table", "csv", "json"}));
+  cmd->add_option("--device", args->device, "Where the network runs: cpu | cuda | cuda:N (metrics stay on the CPU)");
   cmd->callback([args, &global] {
     apply_global_options(global);
     const EvalConfig config = load_config<EvalConfig>(args->config, args->sets);
     std::vector<ModelFile> models;
+    const torch::Device device = resolve_device(args->device, "--device");
     for (const auto& path : args->checkpoints) models.push_back(load_model_file(path));
+    for (auto& m : models) m.model->to(device);
     if (args->names.size() > models.size()) throw Error("--name: more names than --checkpoint files");
     const auto names = method_names(models, args->names);
     std::vector<EvalMethod> methods;

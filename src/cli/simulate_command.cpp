@@ -7,6 +7,7 @@
 
 #include "pb4u/cli/commands.h"
 #include "pb4u/sim/simulate.h"
+#include "pb4u/util/device.h"
 #include "pb4u/util/error.h"
 
 namespace pb4u {
@@ -18,6 +19,7 @@ void add_simulate_command(CLI::App& app, const GlobalOptions& global) {
       "write per-frame garment/body meshes (OBJ or PLY), PC2 point caches (Blender: Mesh Cache\n"
       "modifier on garment_0000.obj), rollout.h5, energies.csv and energies.png.");
   struct Args {
+    std::string device = "cpu";
     std::string checkpoint, scene, out, method = "net", format;
     int frames = 0;
     std::vector<std::string> sets;
@@ -31,6 +33,7 @@ void add_simulate_command(CLI::App& app, const GlobalOptions& global) {
   cmd->add_option("--format", args->format, "Per-frame meshes: obj | ply | none (overrides the scene's)")
       ->check(CLI::IsMember({"obj", "ply", "none"}));
   cmd->add_option("--set", args->sets, "Override a scene key, e.g. --set material.mu=30000 (repeatable)");
+  cmd->add_option("--device", args->device, "Where the network runs: cpu | cuda | cuda:N (metrics stay on the CPU)");
   cmd->callback([args, &global] {
     apply_global_options(global);
     std::vector<std::string> sets = args->sets;
@@ -41,6 +44,7 @@ void add_simulate_command(CLI::App& app, const GlobalOptions& global) {
     if (args->method == "net") {
       if (args->checkpoint.empty()) throw Error("--checkpoint: required with --method net");
       model = load_model_file(args->checkpoint);
+      model->model->to(resolve_device(args->device, "--device"));
     }
     SimulateResult r = simulate(scene, args->scene, model ? &*model : nullptr, args->out);
     spdlog::info("wrote {} frames and {} files to {}", r.frames, r.files.size(), args->out);

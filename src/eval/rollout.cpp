@@ -31,9 +31,20 @@ RolloutInput lbs_rollout_input(const Body& body, const Garment& garment, const M
 
 StepFunction network_stepper(const ModelFile& model, const GarmentTopology& topology) {
   Pb4uNet net = model.model;
-  return [net, topology](const FrameState& state, const ClothGeometry&, const TermList&,
-                         const BodyContact*) mutable {
-    return net->step(state, topology).to(torch::kFloat64);
+  // The network (graph building included) runs where its weights are (--device); the
+  // float64 physics state and metrics stay on the host.
+  const torch::Device device = net->parameters().front().device();
+  if (device.is_cpu())
+    return [net, topology](const FrameState& state, const ClothGeometry&, const TermList&,
+                           const BodyContact*) mutable { return net->step(state, topology).to(torch::kFloat64); };
+  GarmentTopology on_device = garment_topology_to(topology, device);
+  return [net, on_device, device](const FrameState& state, const ClothGeometry&, const TermList&,
+                                  const BodyContact*) mutable {
+    FrameState s = state;
+    for (torch::Tensor* t : {&s.x, &s.x_prev, &s.pinned, &s.pin_targets, &s.body.vertices,
+                             &s.body.next_vertices, &s.body.faces})
+      if (t->defined()) *t = t->to(device);
+    return net->step(s, on_device).to(torch::kCPU, torch::kFloat64);
   };
 }
 

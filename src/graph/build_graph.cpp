@@ -21,18 +21,18 @@ void check_points(const torch::Tensor& t, int64_t rows, const char* name) {
 }
 
 // Node features shared by every node: material, effect flags, gravity (SPEC 4 / 6).
-torch::Tensor scene_features(const FrameState& s, const MaterialRanges& ranges) {
+torch::Tensor scene_features(const FrameState& s, const MaterialRanges& ranges, torch::Device device) {
   auto m = normalised_material(s.material, ranges);
   const Effects& e = s.effects;
   const double g = e.gravity ? 1.0 : 0.0;
   std::vector<float> f = {float(m[0]), float(m[1]), float(m[2]), float(m[3]),
                           float(e.gravity), float(e.collision), float(e.friction), float(e.pins),
                           float(g * s.gravity[0]), float(g * s.gravity[1]), float(g * s.gravity[2])};
-  return torch::tensor(f);
+  return torch::tensor(f).to(device);
 }
 
-torch::Tensor one_hot_rows(int64_t rows, int64_t hot) {
-  auto t = torch::zeros({rows, 3});
+torch::Tensor one_hot_rows(int64_t rows, int64_t hot, torch::Device device) {
+  auto t = torch::zeros({rows, 3}, torch::TensorOptions().device(device));
   if (rows > 0) t.select(1, hot).fill_(1);
   return t;
 }
@@ -49,14 +49,18 @@ GraphBatch build_graph(const FrameState& state, const GarmentTopology& topology,
   // Velocity from the caller's dtype: float64 positions far from the origin keep their digits.
   auto v = ((state.x - state.x_prev) / state.dt).to(torch::kFloat32);
   auto x = state.x.to(torch::kFloat32);
-  auto scene = scene_features(state, options.material_ranges);
+  // Every tensor lives on x's device (graph building runs on the GPU in CUDA runs); only the
+  // world-edge search goes through the host KD-tree.
+  const torch::Device dev = x.device();
+  const auto index_options = torch::TensorOptions().dtype(torch::kInt64).device(dev);
+  auto scene = scene_features(state, options.material_ranges, dev);
 
-  auto type = one_hot_rows(n, 0);
+  auto type = one_hot_rows(n, 0, dev);
   if (state.effects.pins && state.pinned.defined()) {
     if (state.pinned.dim() != 1 || state.pinned.size(0) != n)
       fail_file("frame state", "pinned must have one flag per garment vertex (" + std::to_string(n) + ")");
     auto pinned = state.pinned.to(torch::kBool).unsqueeze(1);
-    type = torch::where(pinned, one_hot_rows(n, 2), type);
+    type = torch::where(pinned.to(dev), one_hot_rows(n, 2, dev), type);
   }
   auto log_mass = torch::log(topology.vertex_area * state.material.density).unsqueeze(1);
   auto garment = torch::cat({v, vertex_normals(x, topology.faces), type, log_mass,
@@ -69,10 +73,10 @@ GraphBatch build_graph(const FrameState& state, const GarmentTopology& topology,
   g.mesh_features = mesh_edge_features(x, topology);
   g.vertex_mean_edge_length = topology.vertex_mean_edge_length;
   g.mean_edge_length = topology.mean_edge_length;
-  g.world_senders = torch::empty({0}, torch::kInt64);
-  g.world_receivers = torch::empty({0}, torch::kInt64);
-  g.world_features = torch::empty({0, kWorldEdgeFeatureDim});
-  g.body_vertex_index = torch::empty({0}, torch::kInt64);
+  g.world_senders = torch::empty({0}, index_options);
+  g.world_receivers = torch::empty({0}, index_options);
+  g.world_features = torch::empty({0, kWorldEdgeFeatureDim}, torch::TensorOptions().device(dev));
+  g.body_vertex_index = torch::empty({0}, index_options);
   g.node_features = garment;
   if (!state.effects.needs_body() || !state.body.defined()) return g;
 
@@ -100,17 +104,18 @@ GraphBatch build_graph(const FrameState& state, const GarmentTopology& topology,
     }
     bn[i] = node_of[b];
   }
-  auto used_t = torch::tensor(used, torch::kInt64);
+  auto used_t = torch::tensor(used, torch::kInt64).to(dev);
+  body_node = body_node.to(dev);
   auto bx = body.vertices.to(torch::kFloat32), bx_next = body.next_vertices.to(torch::kFloat32);
   auto b_now = bx.index_select(0, used_t), b_next = bx_next.index_select(0, used_t);
   const int64_t nu = used_t.size(0);
   auto body_normals = vertex_normals(bx, body.faces.to(torch::kInt64)).index_select(0, used_t);
-  auto body_nodes = torch::cat({(b_next - b_now) / state.dt, body_normals, one_hot_rows(nu, 1),
-                                torch::zeros({nu, 1}), scene.expand({nu, scene.size(0)})}, 1);
+  auto body_nodes = torch::cat({(b_next - b_now) / state.dt, body_normals, one_hot_rows(nu, 1, dev),
+                                torch::zeros({nu, 1}, x.options()), scene.expand({nu, scene.size(0)})}, 1);
   g.node_features = torch::cat({garment, body_nodes}, 0);
   g.body_vertex_index = used_t;
 
-  auto garment_node = pairs.select(1, 0).contiguous();
+  auto garment_node = pairs.select(1, 0).contiguous().to(dev);
   g.world_senders = torch::cat({body_node, garment_node});
   g.world_receivers = torch::cat({garment_node, body_node});
   auto p = torch::cat({x, b_now}, 0), q = torch::cat({x + v * state.dt, b_next}, 0);

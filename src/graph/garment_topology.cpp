@@ -61,4 +61,12 @@ GarmentTopology build_garment_topology(const TriMesh& rest, const std::string& w
   return topo;
 }
 
+GarmentTopology garment_topology_to(const GarmentTopology& topology, torch::Device device) {
+  GarmentTopology out = topology;
+  for (torch::Tensor* t : {&out.faces, &out.senders, &out.receivers, &out.rest_direction, &out.rest_length,
+                           &out.vertex_area, &out.vertex_mean_edge_length})
+    if (t->defined()) *t = t->to(device);
+  return out;
+}
+
 }  // namespace pb4u

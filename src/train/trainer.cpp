@@ -2,12 +2,19 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <mutex>
 #include <sstream>
 
+#include <unistd.h>
+
 #include "pb4u/data/lbs_frame.h"
+#include "pb4u/graph/online_normalizer.h"
 #include "pb4u/graph/build_graph.h"
 #include "pb4u/mesh/geometry.h"
 #include "pb4u/model/euler_step.h"
@@ -18,6 +25,7 @@
 #include "pb4u/train/checkpoint.h"
 #include "pb4u/train/metrics_log.h"
 #include "pb4u/util/atomic_file.h"
+#include "pb4u/util/device.h"
 #include "pb4u/util/eigen_tensor.h"
 #include "pb4u/util/error.h"
 #include "pb4u/util/progress.h"
@@ -27,33 +35,85 @@ namespace fs = std::filesystem;
 
 namespace {
 
-bool gradients_finite(const std::vector<torch::Tensor>& params) {
-  for (const auto& p : params)
-    if (p.grad().defined() && !torch::isfinite(p.grad()).all().item<bool>()) return false;
-  return true;
+std::string checkpoints_dir(const TrainConfig& c) { return c.run.out + "/checkpoints"; }
+
+// Global sample g of step `step`: its own RNG, independent of the rank that draws it.
+std::mt19937_64 sample_rng(int seed, int64_t step, int64_t g) {
+  std::seed_seq seq{static_cast<uint32_t>(seed), static_cast<uint32_t>(step),
+                    static_cast<uint32_t>(step >> 32), static_cast<uint32_t>(g)};
+  return std::mt19937_64(seq);
 }
 
-std::string checkpoints_dir(const TrainConfig& c) { return c.run.out + "/checkpoints"; }
+std::vector<OnlineNormalizerImpl*> normalisers(torch::nn::Module& model) {
+  std::vector<OnlineNormalizerImpl*> out;
+  for (const auto& m : model.modules())
+    if (auto* n = dynamic_cast<OnlineNormalizerImpl*>(m.get())) out.push_back(n);
+  return out;
+}
+
+bool normalisers_warming_up(torch::nn::Module& model) {
+  for (auto* n : normalisers(model))
+    if (!n->frozen()) return true;
+  return false;
+}
+
+// Every normaliser's (accumulations, count, sum, sum_squares), flat float64 on the CPU.
+torch::Tensor normaliser_statistics(torch::nn::Module& model) {
+  std::vector<torch::Tensor> parts;
+  for (auto* n : normalisers(model))
+    for (const auto& t : {n->accumulations, n->count, n->sum, n->sum_squares})
+      parts.push_back(t.detach().to(torch::kCPU, torch::kFloat64).reshape({-1}));
+  return torch::cat(parts);
+}
+
+void set_normaliser_statistics(torch::nn::Module& model, const torch::Tensor& flat) {
+  torch::NoGradGuard no_grad;
+  int64_t offset = 0;
+  for (auto* n : normalisers(model))
+    for (auto* t : {&n->accumulations, &n->count, &n->sum, &n->sum_squares}) {
+      torch::Tensor part = flat.narrow(0, offset, t->numel()).view(t->sizes());
+      if (t->scalar_type() == torch::kInt64) part = part.round();
+      t->copy_(part.to(t->options()));
+      offset += t->numel();
+    }
+}
+
+// run.device; with CUDA, rank R of a group takes GPU R mod (GPUs on this machine), so ranks
+// started in order on one machine use one GPU each.
+torch::Device training_device(const std::string& name, const DistributedGroup* group) {
+  torch::Device device = resolve_device(name, "run.device");
+  if (device.is_cuda() && group && group->world_size() > 1)
+    device = torch::Device(torch::kCUDA, static_cast<c10::DeviceIndex>(group->rank() % torch::cuda::device_count()));
+  return device;
+}
+
+std::string read_binary_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) fail_file(path, "cannot read checkpoint");
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
 
 }  // namespace
 
-Trainer::Trainer(TrainConfig config, std::string config_yaml, TrainingData data, bool resume)
+Trainer::Trainer(TrainConfig config, std::string config_yaml, TrainingData data, bool resume,
+                 std::shared_ptr<DistributedGroup> group)
     : config_(std::move(config)), config_yaml_(std::move(config_yaml)), data_(std::move(data)),
-      device_(config_.run.device == "cuda" ? torch::kCUDA : torch::kCPU),
-      rng_(static_cast<uint64_t>(config_.run.seed)) {
-  if (device_.is_cuda() && !torch::cuda::is_available())
-    throw Error("run.device: cuda requested but this build or machine has no CUDA device");
+      device_(training_device(config_.run.device, group.get())), group_(std::move(group)) {
   if (data_.garments.empty()) throw Error(config_.data.dataset + ": no garments at the training levels");
   if (data_.motions.empty()) throw Error(config_.data.dataset + ": no training motions");
-  torch::manual_seed(static_cast<uint64_t>(config_.run.seed));
-
-  model_ = Pb4uNet(config_.model);
+  {
+    // The initial weights come from torch's process-wide generator: trainers built at once in
+    // one process (ranks as threads, in tests) must not interleave their draws.
+    static std::mutex init_mutex;
+    std::lock_guard<std::mutex> lock(init_mutex);
+    torch::manual_seed(static_cast<uint64_t>(config_.run.seed));
+    model_ = Pb4uNet(config_.model);
+  }
   model_->to(device_);
   // Calibrate K on the training resolution: the mean edge length over the training garments.
   double lbar = 0;
   for (const auto& g : data_.garments) {
-    topology_.push_back(build_garment_topology(g.mesh, g.name));
-    topology_.back().faces = topology_.back().faces.to(device_);
+    topology_.push_back(garment_topology_to(build_garment_topology(g.mesh, g.name), device_));
     cloth_.push_back(make_cloth_geometry(g.mesh, torch::kFloat32, device_, false,
                                          config_.physics.degenerate_area));
     lbar += topology_.back().mean_edge_length;
@@ -61,54 +121,106 @@ Trainer::Trainer(TrainConfig config, std::string config_yaml, TrainingData data,
   model_->calibrate(lbar / data_.garments.size());
   optimizer_ = std::make_unique<torch::optim::Adam>(model_->parameters(),
                                                     torch::optim::AdamOptions(config_.optim.lr));
+  Effects every_effect;
+  every_effect.gravity = every_effect.collision = every_effect.friction = true;
+  term_names_ = term_names(build_terms(every_effect, config_.physics));
+  start_group(resume);
+}
 
+// Rank 0 owns the run directory: it checks it, resumes from it and writes the config. The
+// other ranks get its verdict, its checkpoint and its weights, so the group starts as one.
+void Trainer::start_group(bool resume) {
   const std::string ckpt_dir = checkpoints_dir(config_);
-  const std::string latest = latest_checkpoint(ckpt_dir);
-  if (resume) {
-    if (latest.empty()) throw Error(ckpt_dir + ": --resume given but there is no checkpoint");
-    CheckpointMeta meta = load_checkpoint(latest, *model_, optimizer_.get());
+  const bool distributed = group_ && group_->world_size() > 1;
+  std::string problem, checkpoint_bytes;
+  auto load = [this](const std::string& path) {
+    CheckpointMeta meta = load_checkpoint(path, *model_, optimizer_.get());
     step_ = meta.step;
     skipped_steps_ = meta.skipped_steps;
     elapsed_seconds_ = meta.elapsed_seconds;
-    std::istringstream(meta.host_rng_state) >> rng_;
-    spdlog::info("resumed {} at step {}", latest, step_);
-  } else if (!latest.empty()) {
-    throw Error(config_.run.out + ": already holds checkpoints; use --resume to continue it, or a new run.out");
+  };
+  if (is_root()) {
+    try {
+      const std::string latest = latest_checkpoint(ckpt_dir);
+      if (resume && latest.empty()) throw Error(ckpt_dir + ": --resume given but there is no checkpoint");
+      if (!resume && !latest.empty())
+        throw Error(config_.run.out + ": already holds checkpoints; use --resume to continue it, or a new run.out");
+      if (resume) {
+        load(latest);
+        if (distributed) checkpoint_bytes = read_binary_file(latest);
+        spdlog::info("resumed {} at step {}", latest, step_);
+      }
+    } catch (const Error& e) {
+      if (!distributed) throw;
+      problem = e.what();
+    }
   }
-  ensure_output_dir(ckpt_dir);
-  write_text_file(config_.run.out + "/config.yaml", config_yaml_);
+  // The run directory is written once the whole group has agreed to start.
+  auto write_run_dir = [&] {
+    if (!is_root()) return;
+    ensure_output_dir(ckpt_dir);
+    write_text_file(config_.run.out + "/config.yaml", config_yaml_);
+  };
+  if (!distributed) return write_run_dir();
+
+  problem = group_->broadcast_bytes(problem);
+  if (!problem.empty()) throw Error(is_root() ? problem : "rank 0 could not start the run: " + problem);
+  // Ranks with different configs would train different things under one name; a --resume
+  // on some ranks only would pair different collectives.
+  torch::Tensor votes = torch::tensor({group_->broadcast_bytes(config_yaml_) == config_yaml_ ? 0L : 1L,
+                                       resume ? 1L : 0L});
+  group_->all_reduce_sum(votes);
+  const int64_t other_configs = votes[0].item<int64_t>(), resuming = votes[1].item<int64_t>();
+  if (other_configs > 0)
+    throw Error("rank " + std::to_string(group_->rank()) + ": " + std::to_string(other_configs) +
+                " rank(s) run another training config than rank 0; every rank must get the same --config and --set");
+  if (resuming != 0 && resuming != group_->world_size())
+    throw Error("--resume: given to " + std::to_string(resuming) + " of " + std::to_string(group_->world_size()) +
+                " ranks; give it to every rank or to none");
+  if (resume) {
+    checkpoint_bytes = group_->broadcast_bytes(checkpoint_bytes);
+    if (!is_root()) {
+      const std::string tmp = (fs::temp_directory_path() /
+                               ("pb4u_resume_rank" + std::to_string(group_->rank()) + "_" +
+                                std::to_string(::getpid()) + ".pt")).string();
+      {
+        AtomicFile file(tmp, /*binary=*/true);
+        file.stream().write(checkpoint_bytes.data(), static_cast<std::streamsize>(checkpoint_bytes.size()));
+        file.commit();
+      }
+      try {
+        load(tmp);
+      } catch (...) {
+        fs::remove(tmp);
+        throw;
+      }
+      fs::remove(tmp);
+    }
+  }
+  // Rank 0's weights and statistics everywhere, whatever each rank's initialisation did.
+  for (auto& p : model_->parameters()) {
+    torch::Tensor data = p.detach();
+    group_->broadcast(data);
+  }
+  for (auto& b : model_->buffers()) group_->broadcast(b);
+  write_run_dir();
 }
 
-std::string Trainer::host_rng_state() const {
-  std::ostringstream s;
-  s << rng_;
-  return s.str();
-}
-
-StepResult Trainer::train_step() {
-  auto t0 = std::chrono::steady_clock::now();
-  model_->train();
-  StepResult result;
-  result.step = step_ + 1;
-  result.rollout = rollout_length(config_.curriculum, step_);
-  result.lr = learning_rate(config_.optim, step_, config_.run.steps);
-  result.collision_weight = collision_weight(config_.physics.collision, step_);
-  for (auto& group : optimizer_->param_groups())
-    static_cast<torch::optim::AdamOptions&>(group.options()).lr(result.lr);
-
+Trainer::SampleResult Trainer::train_sample(std::mt19937_64& rng, int rollout, double collision_weight) {
+  SampleResult result;
   // The sample: garment, motion of its body, start frame, material, effects, K.
-  const int gi = std::uniform_int_distribution<int>(0, int(data_.garments.size()) - 1)(rng_);
+  const int gi = std::uniform_int_distribution<int>(0, int(data_.garments.size()) - 1)(rng);
   const int bi = data_.garment_body[gi];
   std::vector<int> motions;
   for (int m = 0; m < int(data_.motions.size()); ++m)
     if (data_.motion_body[m] == bi) motions.push_back(m);
   if (motions.empty()) throw Error(config_.data.dataset + ": no training motion for body " + data_.bodies[bi].name);
-  const Motion& motion = data_.motions[motions[std::uniform_int_distribution<size_t>(0, motions.size() - 1)(rng_)]];
-  const int r = std::min(result.rollout, std::max(1, motion.num_frames() - 2));
-  const int t = std::uniform_int_distribution<int>(1, std::max(1, motion.num_frames() - 1 - r))(rng_);
-  Material material = sample_material(config_.materials, Material{}, rng_);
-  Effects effects = sample_effects(config_.effects, rng_);
-  result.K = sample_propagation_steps(config_.model, rng_);
+  const Motion& motion = data_.motions[motions[std::uniform_int_distribution<size_t>(0, motions.size() - 1)(rng)]];
+  const int r = std::min(rollout, std::max(1, motion.num_frames() - 2));
+  const int t = std::uniform_int_distribution<int>(1, std::max(1, motion.num_frames() - 1 - r))(rng);
+  Material material = sample_material(config_.materials, Material{}, rng);
+  Effects effects = sample_effects(config_.effects, rng);
+  result.K = sample_propagation_steps(config_.model, rng);
   result.rollout = r;
 
   const Body& body = data_.bodies[bi];
@@ -122,8 +234,7 @@ StepResult Trainer::train_step() {
   const torch::Tensor body_faces = index_matrix_to_tensor(body.mesh.F, device_);
   Eigen::MatrixXd body_now = frame.body, body_next = frame.body_next;
 
-  TermList terms = build_terms(effects, config_.physics, result.collision_weight);
-  optimizer_->zero_grad();
+  TermList terms = build_terms(effects, config_.physics, collision_weight);
   torch::Tensor loss_sum = torch::zeros({}, torch::TensorOptions().device(device_));
   std::vector<double> term_sums(terms.size(), 0.0);
   for (int i = 0; i < r; ++i) {
@@ -155,12 +266,89 @@ StepResult Trainer::train_step() {
   }
   result.loss = loss_sum.item<double>() / r;
   for (size_t k = 0; k < terms.size(); ++k) result.terms.emplace_back(terms[k]->name(), term_sums[k] / r);
+  return result;
+}
 
+StepResult Trainer::train_step() {
+  auto t0 = std::chrono::steady_clock::now();
+  model_->train();
+  StepResult result;
+  result.step = step_ + 1;
+  const int rollout = rollout_length(config_.curriculum, step_);
+  result.lr = learning_rate(config_.optim, step_, config_.run.steps);
+  result.collision_weight = collision_weight(config_.physics.collision, step_);
+  for (auto& group : optimizer_->param_groups())
+    static_cast<torch::optim::AdamOptions&>(group.options()).lr(result.lr);
+
+  const int batch = config_.run.batch;
+  const int rank = group_ ? group_->rank() : 0;
   auto params = model_->parameters();
-  if (!std::isfinite(result.loss) || !gradients_finite(params)) {
+  int64_t grad_numel = 0;
+  for (const auto& p : params) grad_numel += p.numel();
+  const int64_t n_params = static_cast<int64_t>(params.size()), n_terms = static_cast<int64_t>(term_names_.size());
+  const bool warmup = normalisers_warming_up(*model_);
+  const torch::Tensor stats_start = warmup ? normaliser_statistics(*model_) : torch::Tensor();
+
+  // What the ranks sum, in one buffer: gradients | samples that had each parameter's
+  // gradient | loss, samples | term sums | term counts | normaliser statistics added.
+  const int64_t n_totals = 2 + 2 * n_terms, n_stats = warmup ? stats_start.numel() : 0;
+  torch::Tensor sums = torch::zeros({grad_numel + n_params + n_totals + n_stats}, torch::kFloat64);
+  torch::Tensor grads = sums.narrow(0, 0, grad_numel);
+  torch::Tensor present = sums.narrow(0, grad_numel, n_params);
+  torch::Tensor totals = sums.narrow(0, grad_numel + n_params, n_totals);
+  torch::Tensor stats_added = sums.narrow(0, grad_numel + n_params + n_totals, n_stats);
+  auto total = totals.accessor<double, 1>();
+  auto present_count = present.accessor<double, 1>();
+  for (int j = 0; j < batch; ++j) {
+    std::mt19937_64 rng = sample_rng(config_.run.seed, step_, int64_t(rank) * batch + j);
+    if (warmup) set_normaliser_statistics(*model_, stats_start);
+    for (auto& p : params) p.mutable_grad() = torch::Tensor();
+    SampleResult s = train_sample(rng, rollout, result.collision_weight);
+    if (j == 0) {
+      result.rollout = s.rollout;
+      result.K = s.K;
+    }
+    int64_t offset = 0;
+    for (int64_t i = 0; i < n_params; ++i) {
+      const torch::Tensor& g = params[i].grad();
+      if (g.defined()) {
+        grads.narrow(0, offset, g.numel()).add_(g.detach().reshape({-1}).to(torch::kCPU, torch::kFloat64));
+        present_count[i] += 1;
+      }
+      offset += params[i].numel();
+    }
+    total[0] += s.loss;
+    total[1] += 1;
+    for (const auto& [name, value] : s.terms) {
+      const auto k = std::find(term_names_.begin(), term_names_.end(), name) - term_names_.begin();
+      if (k == n_terms) throw Error("training: term '" + name + "' is not one of the six physics terms");
+      total[2 + k] += value;
+      total[2 + n_terms + k] += 1;
+    }
+    if (warmup) stats_added.add_(normaliser_statistics(*model_) - stats_start);
+  }
+  if (group_) group_->all_reduce_sum(sums);
+
+  // Every rank holds the same sums now, so every rank makes the same decisions below.
+  const double samples = total[1];
+  result.samples = static_cast<int64_t>(samples);
+  if (warmup) set_normaliser_statistics(*model_, stats_start + stats_added);
+  result.loss = total[0] / samples;
+  for (int64_t k = 0; k < n_terms; ++k)
+    if (total[2 + n_terms + k] > 0) result.terms.emplace_back(term_names_[k], total[2 + k] / total[2 + n_terms + k]);
+  const bool finite = std::isfinite(result.loss) && torch::isfinite(grads).all().item<bool>();
+  int64_t offset = 0;
+  for (int64_t i = 0; i < n_params; ++i) {
+    auto& p = params[i];
+    if (finite && present_count[i] > 0)
+      p.mutable_grad() = (grads.narrow(0, offset, p.numel()) / samples).view(p.sizes()).to(p.options());
+    else
+      p.mutable_grad() = torch::Tensor();
+    offset += p.numel();
+  }
+  if (!finite) {
     result.skipped = true;
     ++skipped_steps_;
-    optimizer_->zero_grad();
   } else {
     torch::nn::utils::clip_grad_norm_(params, config_.optim.grad_clip);
     optimizer_->step();
@@ -175,7 +363,7 @@ void Trainer::save(bool final_checkpoint) {
   CheckpointMeta meta;
   meta.step = step_;
   meta.config_yaml = config_yaml_;
-  meta.host_rng_state = host_rng_state();
+  meta.host_rng_state = "";  // samples are seeded by (seed, step, sample): nothing to keep
   meta.elapsed_seconds = elapsed_seconds_;
   meta.skipped_steps = skipped_steps_;
   save_checkpoint(checkpoint_path(checkpoints_dir(config_), step_), *model_, optimizer_.get(), meta);
@@ -185,6 +373,10 @@ void Trainer::save(bool final_checkpoint) {
 
 void Trainer::run(int64_t stop_at) {
   const int64_t end = stop_at >= 0 ? std::min<int64_t>(stop_at, config_.run.steps) : config_.run.steps;
+  if (!is_root()) {  // rank 0 writes the metrics and checkpoints of the group
+    while (step_ < end) train_step();
+    return;
+  }
   MetricsLog metrics(config_.run.out + "/metrics.jsonl", step_);
   Progress bar("train", end - step_, "step");
   while (step_ < end) {
@@ -192,7 +384,8 @@ void Trainer::run(int64_t stop_at) {
     std::vector<std::pair<std::string, double>> row{
         {"loss", s.loss}, {"lr", s.lr}, {"seconds", elapsed_seconds_}, {"step_seconds", s.seconds},
         {"rollout", double(s.rollout)}, {"K", double(s.K)},
-        {"collision_weight", s.collision_weight}, {"skipped_steps", double(skipped_steps_)}};
+        {"collision_weight", s.collision_weight}, {"skipped_steps", double(skipped_steps_)},
+        {"samples", double(s.samples)}};
     row.insert(row.end(), s.terms.begin(), s.terms.end());
     metrics.write(s.step, row);
     char status[96];

@@ -28,4 +28,8 @@ struct GarmentTopology {
 // rest lengths).
 GarmentTopology build_garment_topology(const TriMesh& rest, const std::string& where = "garment");
 
+// The same topology with every tensor on `device` (built once, so a CUDA run builds graphs on
+// the GPU without a host round trip per frame).
+GarmentTopology garment_topology_to(const GarmentTopology& topology, torch::Device device);
+
 }  // namespace pb4u

@@ -17,6 +17,7 @@ struct RunConfig {
   std::string out = "runs/quick";  // run directory: checkpoints/, metrics.jsonl, config.yaml
   int seed = 0;
   int steps = 2000;
+  int batch = 1;                   // samples per step on each rank (gradients averaged over all)
   int checkpoint_every = 100;
   int keep_checkpoints = 3;
   std::string device = "cpu";      // cpu | cuda
@@ -27,6 +28,7 @@ struct RunConfig {
     v("out", out);
     v("seed", seed, int_at_least(0));
     v("steps", steps, int_at_least(1));
+    v("batch", batch, int_at_least(1));
     v("checkpoint_every", checkpoint_every, int_at_least(1));
     v("keep_checkpoints", keep_checkpoints, int_at_least(1));
     v("device", device, one_of({"cpu", "cuda"}));

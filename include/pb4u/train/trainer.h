@@ -3,6 +3,14 @@
 // at a training level, a material and an effect set; start from the LBS-initialised state;
 // roll the model out r steps (state detached between steps); minimise the sum of the active
 // physics terms.
+//
+// A step trains on run.batch samples per rank; with a DistributedGroup of N ranks the step's
+// batch is the N * run.batch samples of all ranks, gradients averaged over it (issue 10).
+// Sample j of rank R is global sample g = R * run.batch + j, drawn from an RNG seeded by
+// (run.seed, step, g) alone, so the samples of a step do not depend on how they are split
+// over ranks, and a resumed run needs no saved RNG state. Every sample sees the normaliser
+// statistics of the start of the step plus its own; the step adds all samples' statistics.
+// Hence N ranks of batch b train exactly like one process of batch N * b.
 #include <torch/torch.h>
 
 #include <cstdint>
@@ -17,6 +25,7 @@
 #include "pb4u/graph/garment_topology.h"
 #include "pb4u/model/pb4u_net.h"
 #include "pb4u/physics/cloth_geometry.h"
+#include "pb4u/train/distributed.h"
 #include "pb4u/train/train_config.h"
 
 namespace pb4u {
@@ -30,7 +39,9 @@ struct TrainingData {
   std::vector<int> motion_body;   // body index of each motion (same skeleton)
 };
 
-// One step's outcome, also a metrics.jsonl row.
+// One step's outcome, also a metrics.jsonl row. Loss and terms are means over the step's
+// samples on all ranks (a term over the samples that have it); rollout and K are those of
+// this rank's first sample.
 struct StepResult {
   int64_t step = 0;
   double loss = 0;                  // J: mean over rollout steps of the total energy
@@ -38,14 +49,19 @@ struct StepResult {
   double lr = 0, seconds = 0, collision_weight = 0;
   int rollout = 1;
   int64_t K = 0;
-  bool skipped = false;             // non-finite loss or gradient: no update
+  int64_t samples = 1;              // the step's batch over all ranks
+  bool skipped = false;             // non-finite loss or gradient on any rank: no update
 };
 
 class Trainer {
  public:
   // config_yaml: the effective config, stored in every checkpoint. resume: continue from the
-  // newest checkpoint in <run.out>/checkpoints (an error if there is none).
-  Trainer(TrainConfig config, std::string config_yaml, TrainingData data, bool resume);
+  // newest checkpoint in <run.out>/checkpoints (an error if there is none). group: the ranks
+  // of a data-parallel run (null = this process alone). Only rank 0 reads and writes the run
+  // directory; it sends the other ranks its checkpoint and weights, so they need the
+  // dataset but not the run directory. Every rank must pass the same config.
+  Trainer(TrainConfig config, std::string config_yaml, TrainingData data, bool resume,
+          std::shared_ptr<DistributedGroup> group = nullptr);
 
   // Trains until run.steps (or until `stop_at` steps, if smaller and >= 0, as if the run
   // were interrupted there) with a progress bar; checkpoints and metrics as configured.
@@ -58,8 +74,17 @@ class Trainer {
   const std::string& run_dir() const { return config_.run.out; }
 
  private:
+  struct SampleResult {
+    double loss = 0;  // mean over rollout steps of the total energy
+    std::vector<std::pair<std::string, double>> terms;
+    int rollout = 1;
+    int64_t K = 0;
+  };
+  // One sample's rollout; its gradients accumulate into the parameters' .grad.
+  SampleResult train_sample(std::mt19937_64& rng, int rollout, double collision_weight);
   void save(bool final_checkpoint);
-  std::string host_rng_state() const;
+  void start_group(bool resume);
+  bool is_root() const { return !group_ || group_->is_root(); }
 
   TrainConfig config_;
   std::string config_yaml_;
@@ -69,7 +94,8 @@ class Trainer {
   std::unique_ptr<torch::optim::Adam> optimizer_;
   std::vector<GarmentTopology> topology_;
   std::vector<ClothGeometry> cloth_;
-  std::mt19937_64 rng_;
+  std::shared_ptr<DistributedGroup> group_;
+  std::vector<std::string> term_names_;  // all terms, in Table-1 order: slots of the reduction
   int64_t step_ = 0;
   int64_t skipped_steps_ = 0;
   double elapsed_seconds_ = 0;
