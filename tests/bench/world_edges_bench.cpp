@@ -22,7 +22,7 @@
 
 int main(int argc, char** argv) {
   using namespace pb4u;
-  ensure_fast_blas(argc, argv);
+  ensure_fast_runtime(argc, argv);
   const int repeats = argc > 1 ? std::atoi(argv[1]) : 11;
   const int threads = configure_threads(0);
   const GraphOptions graph;
