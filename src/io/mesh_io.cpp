@@ -9,6 +9,8 @@
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <vector>
 
 #include "pb4u/util/atomic_file.h"
@@ -25,11 +27,41 @@ std::string file_extension(const std::string& path) {
 
 namespace {
 
+// A PLY header longer than this is not one (comments included).
+constexpr int kMaxPlyHeaderLines = 10000;
+
 void check_readable(const std::string& path) {
   std::error_code ec;
   if (!fs::exists(path, ec)) fail_file(path, "no such file");
   if (fs::is_directory(path, ec)) fail_file(path, "is a directory, not a file");
   if (fs::file_size(path, ec) == 0) fail_file(path, "file is empty");
+}
+
+// assimp trusts a PLY header's element counts and spends minutes (and gigabytes) on a small
+// file that declares billions of vertices. Every element takes at least one byte after the
+// header in any PLY encoding, so a count above the bytes left cannot be honest.
+void check_ply_counts(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::string line;
+  if (!std::getline(in, line) || line.rfind("ply", 0) != 0) return;  // assimp reports it
+  const uintmax_t size = fs::file_size(path);
+  std::vector<std::pair<std::string, uintmax_t>> elements;
+  for (int lines = 0; std::getline(in, line) && lines < kMaxPlyHeaderLines; ++lines) {
+    std::istringstream words(line);
+    std::string keyword, name;
+    words >> keyword;
+    if (keyword == "end_header") {
+      const auto body = static_cast<uintmax_t>(std::max<std::streamoff>(0, in.tellg()));
+      for (const auto& [element, count] : elements)
+        if (count > size - std::min(body, size))
+          fail_file(path, "PLY header declares " + std::to_string(count) + " " + element + " elements but only " +
+                              std::to_string(size - std::min(body, size)) + " bytes follow");
+      return;
+    }
+    double count = 0;
+    if (keyword == "element" && words >> name >> count && count > 0)
+      elements.emplace_back(name, count > 1e18 ? uintmax_t(1e18) : static_cast<uintmax_t>(count));
+  }
 }
 
 void append_node(const aiScene* scene, const aiNode* node, const aiMatrix4x4& parent,
@@ -66,6 +98,7 @@ void append_node(const aiScene* scene, const aiNode* node, const aiMatrix4x4& pa
 
 TriMesh read_mesh(const std::string& path, const MeshReadOptions& options, CleanReport* report) {
   check_readable(path);
+  if (file_extension(path) == ".ply") check_ply_counts(path);
   Assimp::Importer importer;
   // Only triangulation and validation: welding is ours (tolerance relative to the bbox).
   const aiScene* scene = importer.ReadFile(
