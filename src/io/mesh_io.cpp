@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <sstream>
 #include <vector>
 
@@ -37,31 +38,53 @@ void check_readable(const std::string& path) {
   if (fs::file_size(path, ec) == 0) fail_file(path, "file is empty");
 }
 
-// assimp trusts a PLY header's element counts and spends minutes (and gigabytes) on a small
-// file that declares billions of vertices. Every element takes at least one byte after the
-// header in any PLY encoding, so a count above the bytes left cannot be honest.
-void check_ply_counts(const std::string& path) {
+// assimp trusts a PLY header: counts of billions of vertices in a small file cost minutes and
+// gigabytes, a header without end_header is searched to the end, and a vertex element without
+// x, y, z aborts the process in its post-processing (all found by mesh_fuzz). The header is
+// checked first: known keywords only, x/y/z on the vertices, and no count above the bytes left
+// (every element takes at least one byte in any PLY encoding).
+void check_ply_header(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   std::string line;
   if (!std::getline(in, line) || line.rfind("ply", 0) != 0) return;  // assimp reports it
   const uintmax_t size = fs::file_size(path);
   std::vector<std::pair<std::string, uintmax_t>> elements;
-  for (int lines = 0; std::getline(in, line) && lines < kMaxPlyHeaderLines; ++lines) {
+  std::set<std::string> vertex_properties;
+  for (int lines = 2; std::getline(in, line) && lines <= kMaxPlyHeaderLines; ++lines) {
+    if (!line.empty() && line.back() == '\r') line.pop_back();
     std::istringstream words(line);
     std::string keyword, name;
     words >> keyword;
     if (keyword == "end_header") {
       const auto body = static_cast<uintmax_t>(std::max<std::streamoff>(0, in.tellg()));
+      const uintmax_t left = size - std::min(body, size);
       for (const auto& [element, count] : elements)
-        if (count > size - std::min(body, size))
+        if (count > left)
           fail_file(path, "PLY header declares " + std::to_string(count) + " " + element + " elements but only " +
-                              std::to_string(size - std::min(body, size)) + " bytes follow");
+                              std::to_string(left) + " bytes follow");
+      const bool has_vertices = std::any_of(elements.begin(), elements.end(),
+                                            [](const auto& e) { return e.first == "vertex"; });
+      for (const char* axis : {"x", "y", "z"})
+        if (has_vertices && !vertex_properties.count(axis))
+          fail_file(path, std::string("PLY vertices have no '") + axis + "' property");
       return;
     }
-    double count = 0;
-    if (keyword == "element" && words >> name >> count && count > 0)
+    if (keyword == "element") {
+      double count = 0;
+      if (!(words >> name >> count) || !(count >= 0))
+        fail_file(path, "PLY header line " + std::to_string(lines) + ": expected 'element <name> <count>'");
       elements.emplace_back(name, count > 1e18 ? uintmax_t(1e18) : static_cast<uintmax_t>(count));
+    } else if (keyword == "property") {
+      std::string last;
+      while (words >> name) last = name;
+      if (elements.empty() || last.empty())
+        fail_file(path, "PLY header line " + std::to_string(lines) + ": a property outside an element");
+      if (elements.back().first == "vertex") vertex_properties.insert(last);
+    } else if (!keyword.empty() && keyword != "format" && keyword != "comment" && keyword != "obj_info") {
+      fail_file(path, "PLY header line " + std::to_string(lines) + ": unknown keyword '" + keyword.substr(0, 32) + "'");
+    }
   }
+  fail_file(path, "PLY header has no end_header line within " + std::to_string(kMaxPlyHeaderLines) + " lines");
 }
 
 void append_node(const aiScene* scene, const aiNode* node, const aiMatrix4x4& parent,
@@ -98,7 +121,7 @@ void append_node(const aiScene* scene, const aiNode* node, const aiMatrix4x4& pa
 
 TriMesh read_mesh(const std::string& path, const MeshReadOptions& options, CleanReport* report) {
   check_readable(path);
-  if (file_extension(path) == ".ply") check_ply_counts(path);
+  check_ply_header(path);  // whatever the extension: assimp picks its PLY reader by content too
   Assimp::Importer importer;
   // Only triangulation and validation: welding is ours (tolerance relative to the bbox).
   const aiScene* scene = importer.ReadFile(

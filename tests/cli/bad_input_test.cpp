@@ -90,6 +90,22 @@ TEST(BadInput, Meshes) {
   for (const auto& b : files) expect_clean_failure("inspect " + b.path, b.path, "mesh " + b.name);
   expect_clean_failure("simulate --method reference --scene " + scene_file(dir, files[3].path) + " --out " + dir + "/o",
                        files[3].path, "garment mesh of random bytes");
+  // PLY headers assimp would spin on or abort in (found by mesh_fuzz), refused up front.
+  const std::string header = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n";
+  const std::string rest = "property float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\n";
+  const std::string body = "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+  const std::vector<std::pair<std::string, std::string>> plys{
+      {header + rest, "no end_header"},
+      {header + rest + body, "unknown keyword '0'"},  // data where the header should end
+      {std::string(header).replace(header.find("vertex 3"), 8, "vertex 3000000000") + rest + "end_header\n" + body,
+       "3000000000 vertex elements"},
+      {header + "prperty float y\n" + "end_header\n" + body, "unknown keyword"},
+      {header + "element face 1\nproperty list uchar int vertex_indices\nend_header\n" + body, "no 'y' property"}};
+  for (size_t k = 0; k < plys.size(); ++k) {
+    const std::string path = dir + "/header" + std::to_string(k) + ".ply";
+    test::write_file(path, plys[k].first);
+    expect_clean_failure("inspect " + path, {path, plys[k].second}, "PLY header " + plys[k].second);
+  }
 }
 
 TEST(BadInput, NonManifoldAndNanGarments) {

@@ -119,7 +119,10 @@ RolloutFigures check_rollout(const std::string& label, const RolloutInput& in, c
       if (name != "gravity") EXPECT_GE(value, 0.0) << label << " frame " << frame << " " << name;
     }
     fig.max_total = std::max(fig.max_total, rep.total);
-    fig.max_speed = std::max(fig.max_speed, (x - prev).rowwise().norm().maxCoeff() / in.dt);
+    const double speed = (x - prev).rowwise().norm().maxCoeff() / in.dt;
+    fig.max_speed = std::max(fig.max_speed, speed);
+    if (bounds.max_speed > 0 && speed > bounds.max_speed)
+      ADD_FAILURE() << label << " frame " << frame << ": a vertex moves at " << speed << " m/s";
     prev = x;
     for (int e = 0; e < E.rows(); ++e) {
       if (!checked[e] || !(L(e) > 0)) continue;

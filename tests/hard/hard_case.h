@@ -35,6 +35,7 @@ struct Bounds {
   double max_stretch = 3.0;  // largest allowed current / rest edge length; <= 0: not checked
   // Edges only in faces of zero rest area are left out: nothing resists their stretch.
   bool skip_zero_area_edges = true;
+  double max_speed = 0;  // m/s, fastest allowed garment vertex; <= 0: not checked
 };
 
 struct RolloutFigures {

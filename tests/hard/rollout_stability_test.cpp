@@ -30,16 +30,13 @@ constexpr double kNoBlowUp = 10.0; // the network outside it
 struct Methods {
   double network_stretch = kPhysical;
   bool untrained = false;
-  int reference_frames = 0;  // the reference solver's rollout length when shorter (it is the slow one)
 };
 
 // The reference solver, the shipped network and optionally the untrained one on `in`.
 void check_methods(const std::string& label, const RolloutInput& in, const Methods& m = {},
                    const PhysicsConfig& physics = {}) {
   GarmentTopology topology = build_garment_topology(in.garment_rest, label);
-  RolloutInput reference_in = in;
-  if (m.reference_frames > 0) reference_in.steps = std::min(in.steps, m.reference_frames);
-  check_rollout(label + " / reference", reference_in, reference_stepper(physics.solver), physics);
+  check_rollout(label + " / reference", in, reference_stepper(physics.solver), physics);
   hard::Bounds network;
   network.max_stretch = m.network_stretch;
   check_rollout(label + " / shipped Pb4U", in, network_stepper(hard::shipped_model(), topology), physics, network);
@@ -54,7 +51,7 @@ void check_methods(const std::string& label, const RolloutInput& in, const Metho
 
 class HardCases : public ::testing::Test {
  protected:
-  static void SetUpTestSuite() { configure_threads(2); }
+  static void SetUpTestSuite() { configure_threads(1); }  // tiny tensors: threads only add overhead
 };
 
 TEST_F(HardCases, FinestLevelNeverSeenInTraining) {
@@ -68,7 +65,7 @@ TEST_F(HardCases, FinestLevelNeverSeenInTraining) {
     EXPECT_GE(hard::shipped_model().model->propagation_steps_for(topology.mean_edge_length),
               finer * hard::shipped_model().config.k_base - 1);
     RolloutInput in = hard::still_start(cloth, kHanging, Material{}, 10 * hard::scale());
-    check_methods("Lbar_base/" + std::to_string(finer), in, {kNoBlowUp, finer == 4, 4 * hard::scale()});
+    check_methods("Lbar_base/" + std::to_string(finer), in, {kNoBlowUp, finer == 4});
   }
 }
 
@@ -90,15 +87,14 @@ SceneConfig body_scene(const std::string& motion, double speed, double amplitude
 }
 
 TEST_F(HardCases, SpinAtTwoTurnsPerSecond) {
-  SceneConfig s = body_scene("spin", 4.0, 1.0, 8 * hard::scale());  // speed 1 = half a turn/s
+  SceneConfig s = body_scene("spin", 4.0, 1.0, 15 * hard::scale());  // one turn; speed 1 = half a turn/s
   // Training sees speeds 0.7-1.4 (at most 0.7 turns/s): this is three times beyond.
-  check_methods("spin 2 turns/s", scene_rollout_input(s, build_scene(s, "spin")), {kNoBlowUp, false, 4 * hard::scale()},
-                s.physics);
+  check_methods("spin 2 turns/s", scene_rollout_input(s, build_scene(s, "spin")), {kNoBlowUp}, s.physics);
 }
 
 TEST_F(HardCases, FastJump) {
-  SceneConfig s = body_scene("jump", 2.0, 1.3, 8 * hard::scale());  // a jump every 0.6 s, deep crouch
-  check_methods("jump", scene_rollout_input(s, build_scene(s, "jump")), {kNoBlowUp, false, 4 * hard::scale()}, s.physics);
+  SceneConfig s = body_scene("jump", 2.0, 1.3, 18 * hard::scale());  // a jump every 0.6 s, deep crouch
+  check_methods("jump", scene_rollout_input(s, build_scene(s, "jump")), {kNoBlowUp}, s.physics);
 }
 
 TEST_F(HardCases, ExtremeMaterials) {
@@ -163,43 +159,54 @@ TEST_F(HardCases, MasslessVerticesUnderTheLastZeroAreaStrip) {
 }
 
 TEST_F(HardCases, LongRollout1000Frames) {
-  // In the network's training distribution (no body, no gravity: 4% of its samples) a cloth at
-  // rest stays at rest, intact, for 1000 frames.
-  const double lbar = hard::shipped_model().model->mean_edge_length_base();
-  TriMesh cloth = hard::lattice_cloth(6 * hard::scale(), 6 * hard::scale(), lbar);
+  // The reference solver on a tiny cloth (a frame costs it ~20 ms here).
   const int frames = 1000 * hard::scale();
-  RolloutInput floating = hard::still_start(cloth, Effects::from_names({}, "test"), Material{}, frames);
-  GarmentTopology topology = build_garment_topology(cloth);
-  hard::RolloutFigures f = check_rollout("1000 frames floating / shipped Pb4U", floating,
-                                         network_stepper(hard::shipped_model(), topology), {});
-  EXPECT_LT(f.max_speed, 1.0);  // m/s: it does not drift off
+  const double lbar = hard::shipped_model().model->mean_edge_length_base();
   hard::Bounds finite_only;
   finite_only.max_stretch = 0;
-  check_rollout("1000 frames floating / untrained", floating,
+  // No body, no gravity (4% of the network's training samples): a cloth at rest.
+  TriMesh cloth = hard::lattice_cloth(6 * hard::scale(), 6 * hard::scale(), lbar);
+  GarmentTopology topology = build_garment_topology(cloth);
+  RolloutInput floating = hard::still_start(cloth, Effects::from_names({}, "test"), Material{}, frames);
+  check_rollout("long floating / untrained", floating,
                 network_stepper(hard::untrained_model(topology.mean_edge_length), topology), {}, finite_only);
-  // Hanging from pins: the reference solver on a tiny cloth, and the network, which training
-  // never showed pins: it sags and tears (docs/robustness.md) but stays finite.
+  check_rollout("long floating / shipped Pb4U", floating, network_stepper(hard::shipped_model(), topology), {});
   TriMesh small = hard::lattice_cloth(3 * hard::scale(), 3 * hard::scale(), lbar);
-  check_rollout("1000 frames hanging / reference", hard::still_start(small, kHanging, Material{}, frames),
+  check_rollout("long hanging / reference", hard::still_start(small, kHanging, Material{}, frames),
                 reference_stepper({}), {});
-  check_rollout("1000 frames hanging / shipped Pb4U", hard::still_start(cloth, kHanging, Material{}, frames),
+  // Pins, which training never samples: the shipped network lets the cloth sag and tear
+  // (docs/robustness.md), but every frame stays finite.
+  check_rollout("long hanging / shipped Pb4U", hard::still_start(cloth, kHanging, Material{}, frames),
                 network_stepper(hard::shipped_model(), topology), {}, finite_only);
 }
 
 TEST_F(HardCases, BodyMovingThroughTheGarmentFast) {
-  // A 10 cm box crosses a hanging cloth at 6 m/s (20 cm per frame), straight through it.
+  // A 10 cm box crosses a hanging cloth at 6 m/s (20 cm per frame), straight through it. The
+  // cloth it catches is carried along: its edges to the pins stretch as far as the box drags
+  // them (the reference solver reaches ~9x), so the bound here is kinematic: no vertex moves
+  // faster than twice the box.
   const double lbar = hard::shipped_model().model->mean_edge_length_base();
   const int res = 7 * hard::scale();
   TriMesh cloth = hard::lattice_cloth(res, res, lbar);
   const Eigen::Vector3d centre = cloth.V.colwise().mean().transpose();
+  const double box_speed = 6.0;  // m/s
   RolloutInput in = hard::still_start(cloth, Effects::from_names({"gravity", "collision", "friction", "pins"}, "test"),
                                       Material{}, 12);
   for (int f = 0; f <= in.steps; ++f) {
     Eigen::MatrixXd V;
-    hard::box_mesh(centre + Eigen::Vector3d(0, 0, -0.6 + 0.2 * f), 0.05, &V, &in.body_faces);
+    hard::box_mesh(centre + Eigen::Vector3d(0, 0, -0.6 + box_speed * in.dt * f), 0.05, &V, &in.body_faces);
     in.body.push_back(V);
   }
-  check_methods("box through cloth at 6 m/s", in, {kPhysical, false, 6});
+  GarmentTopology topology = build_garment_topology(cloth);
+  hard::Bounds kinematic;
+  kinematic.max_stretch = 0;
+  kinematic.max_speed = 2 * box_speed;
+  RolloutInput reference_in = in;
+  reference_in.steps = 6;  // past the crossing, at frame 3
+  check_rollout("box through cloth at 6 m/s / reference", reference_in, reference_stepper({}), {}, kinematic);
+  kinematic.max_stretch = kPhysical;  // the network lets the box pass through instead
+  check_rollout("box through cloth at 6 m/s / shipped Pb4U", in, network_stepper(hard::shipped_model(), topology), {},
+                kinematic);
 }
 
 }  // namespace
