@@ -164,6 +164,9 @@ TEST(BadInput, YamlConfigsAndScenes) {
   test::write_file(dir + "/type.yaml", "frames: lots\n");
   expect_clean_failure("simulate --method reference --scene " + dir + "/type.yaml --out " + dir + "/s2",
                        {dir + "/type.yaml", "'frames'"}, "wrong type");
+  test::write_file(dir + "/null_key.yaml", "? :\n");  // found by config_fuzz
+  expect_clean_failure("simulate --method reference --scene " + dir + "/null_key.yaml --out " + dir + "/s0",
+                       {dir + "/null_key.yaml", "plain name"}, "null key");
   test::write_file(dir + "/nested.yaml", read_bytes(scene) + "material: {mu: [1, 2]}\n");
   expect_clean_failure("simulate --method reference --scene " + dir + "/nested.yaml --out " + dir + "/s3",
                        "material.mu", "list for a number");
