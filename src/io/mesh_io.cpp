@@ -46,7 +46,10 @@ void check_readable(const std::string& path) {
 void check_ply_header(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   std::string line;
-  if (!std::getline(in, line) || line.rfind("ply", 0) != 0) return;  // assimp reports it
+  if (!std::getline(in, line) || line.size() < 3) return;
+  std::string magic = line.substr(0, 3);
+  std::transform(magic.begin(), magic.end(), magic.begin(), [](unsigned char c) { return std::tolower(c); });
+  if (magic != "ply") return;  // not PLY (assimp's own check ignores case: "Ply", found by mesh_fuzz)
   const uintmax_t size = fs::file_size(path);
   std::vector<std::pair<std::string, uintmax_t>> elements;
   std::set<std::string> vertex_properties;

@@ -106,6 +106,10 @@ TEST(BadInput, Meshes) {
     test::write_file(path, plys[k].first);
     expect_clean_failure("inspect " + path, {path, plys[k].second}, "PLY header " + plys[k].second);
   }
+  // assimp recognises PLY by content, in any case, whatever the extension.
+  const std::string glb = dir + "/ply_inside.glb";
+  test::write_file(glb, "Ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n");
+  expect_clean_failure("inspect " + glb, {glb, "no end_header"}, "PLY text in a .glb");
 }
 
 TEST(BadInput, NonManifoldAndNanGarments) {
