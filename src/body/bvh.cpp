@@ -10,6 +10,10 @@ namespace pb4u {
 namespace {
 
 constexpr double kDegree = M_PI / 180.0;
+// Limits no motion capture file comes near (skeletons nest ~10-30 joints deep, takes last
+// seconds to minutes) that keep a hostile file from exhausting the stack or the memory.
+constexpr int kMaxJointDepth = 1000;
+constexpr double kMaxDurationSeconds = 3600.0;
 
 struct Token {
   std::string text;
@@ -57,6 +61,7 @@ class Tokens {
     return v;
   }
   int line() const { return done() ? last_line_ : tokens_[pos_].line; }
+  size_t remaining() const { return tokens_.size() - pos_; }
   [[noreturn]] void fail(const std::string& why) const { fail_at(line(), why); }
   [[noreturn]] void fail_at(int line, const std::string& why) const {
     throw Error(name_ + ": line " + std::to_string(line) + ": " + why);
@@ -89,7 +94,9 @@ Channel parse_channel(Tokens& tk) {
   tk.fail_at(line, "unknown channel '" + c + "'");
 }
 
-void parse_joint(Tokens& tk, Parsed& p, int parent, double scale) {
+void parse_joint(Tokens& tk, Parsed& p, int parent, double scale, int depth = 0) {
+  if (depth > kMaxJointDepth)
+    tk.fail("joints nested more than " + std::to_string(kMaxJointDepth) + " deep");
   const std::string name = tk.next();
   const int j = static_cast<int>(p.skeleton.names.size());
   p.skeleton.names.push_back(name);
@@ -117,7 +124,7 @@ void parse_joint(Tokens& tk, Parsed& p, int parent, double scale) {
     }
     if (t == "JOINT") {
       tk.next();
-      parse_joint(tk, p, j, scale);
+      parse_joint(tk, p, j, scale, depth + 1);
     } else if (t == "End") {
       tk.next();
       tk.expect("Site");
@@ -150,6 +157,15 @@ BvhFile parse_bvh(const std::string& text, const std::string& name, double scale
   line = tk.line();
   const double frame_time = tk.number();
   if (!(frame_time > 0)) tk.fail_at(line, "frame time must be positive");
+  if (frames * frame_time > kMaxDurationSeconds)
+    tk.fail_at(line, "the motion would last " + std::to_string(frames * frame_time) + " s, more than " +
+                         std::to_string(kMaxDurationSeconds) + " s");
+  size_t values_per_frame = 0;
+  for (const auto& c : p.channels) values_per_frame += c.size();
+  if (values_per_frame == 0) throw Error(name + ": no joint has channels: there is no motion");
+  if (frames > static_cast<double>(tk.remaining() / values_per_frame))
+    tk.fail("the file holds " + std::to_string(tk.remaining() / values_per_frame) + " of the " +
+            std::to_string(static_cast<long long>(frames)) + " frames its header declares");
 
   BvhFile out;
   out.skeleton = std::move(p.skeleton);
@@ -163,9 +179,6 @@ BvhFile parse_bvh(const std::string& text, const std::string& name, double scale
   out.motion.fps = out.source_fps;
   out.motion.frames.reserve(out.source_frames);
   for (int f = 0; f < out.source_frames; ++f) {
-    if (tk.done())
-      tk.fail("file ends after " + std::to_string(f) + " of " + std::to_string(out.source_frames) +
-              " frames");
     Pose pose = rest_pose(s);
     for (int j = 0; j < J; ++j) {
       Eigen::Quaterniond q = Eigen::Quaterniond::Identity();

@@ -69,6 +69,8 @@ void ConfigReader::fail(const std::string& path, const std::string& why) const {
 void ConfigReader::finish() const {
   if (!node_.IsMap()) return;
   for (const auto& kv : node_) {
+    // A YAML key may be a list, a map or null ("? :", found by config_fuzz); ours are names.
+    if (!kv.first.IsScalar()) fail(prefix_ + "?", "a key must be a plain name, not a list, map or null");
     std::string key = kv.first.as<std::string>();
     if (!seen_.count(key)) {
       std::string known;

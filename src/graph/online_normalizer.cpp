@@ -19,8 +19,12 @@ torch::Tensor OnlineNormalizerImpl::mean() const {
 torch::Tensor OnlineNormalizerImpl::std() const {
   if (!(count.item<double>() > 0)) return torch::ones_like(sum);
   auto m = sum / count;
-  auto var = (sum_squares / count - m * m).clamp_min(0);
-  return var.sqrt().clamp_min(std_epsilon);
+  auto s = (sum_squares / count - m * m).clamp_min(0).sqrt();
+  // A feature that never varied while the statistics were gathered (a vertex type or an
+  // effect the training data lacked) would be scaled by 1 / std_epsilon, ~1e8, the first time
+  // it takes another value. It passes through centred instead; the training data, where it
+  // is constant, maps to 0 either way.
+  return torch::where(s < std_epsilon, torch::ones_like(s), s);
 }
 
 torch::Tensor OnlineNormalizerImpl::forward(const torch::Tensor& x) {

@@ -9,6 +9,9 @@
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
 #include <vector>
 
 #include "pb4u/util/atomic_file.h"
@@ -25,11 +28,66 @@ std::string file_extension(const std::string& path) {
 
 namespace {
 
+// A PLY header longer than this is not one (comments included).
+constexpr int kMaxPlyHeaderLines = 10000;
+
 void check_readable(const std::string& path) {
   std::error_code ec;
   if (!fs::exists(path, ec)) fail_file(path, "no such file");
   if (fs::is_directory(path, ec)) fail_file(path, "is a directory, not a file");
   if (fs::file_size(path, ec) == 0) fail_file(path, "file is empty");
+}
+
+// assimp trusts a PLY header: counts of billions of vertices in a small file cost minutes and
+// gigabytes, a header without end_header is searched to the end, and a vertex element without
+// x, y, z aborts the process in its post-processing (all found by mesh_fuzz). The header is
+// checked first: known keywords only, x/y/z on the vertices, and no count above the bytes left
+// (every element takes at least one byte in any PLY encoding).
+void check_ply_header(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::string line;
+  if (!std::getline(in, line) || line.size() < 3) return;
+  std::string magic = line.substr(0, 3);
+  std::transform(magic.begin(), magic.end(), magic.begin(), [](unsigned char c) { return std::tolower(c); });
+  if (magic != "ply") return;  // not PLY (assimp's own check ignores case: "Ply", found by mesh_fuzz)
+  const uintmax_t size = fs::file_size(path);
+  std::vector<std::pair<std::string, uintmax_t>> elements;
+  std::set<std::string> vertex_properties;
+  for (int lines = 2; std::getline(in, line) && lines <= kMaxPlyHeaderLines; ++lines) {
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    std::istringstream words(line);
+    std::string keyword, name;
+    words >> keyword;
+    if (keyword == "end_header") {
+      const auto body = static_cast<uintmax_t>(std::max<std::streamoff>(0, in.tellg()));
+      const uintmax_t left = size - std::min(body, size);
+      for (const auto& [element, count] : elements)
+        if (count > left)
+          fail_file(path, "PLY header declares " + std::to_string(count) + " " + element + " elements but only " +
+                              std::to_string(left) + " bytes follow");
+      const bool has_vertices = std::any_of(elements.begin(), elements.end(),
+                                            [](const auto& e) { return e.first == "vertex"; });
+      for (const char* axis : {"x", "y", "z"})
+        if (has_vertices && !vertex_properties.count(axis))
+          fail_file(path, std::string("PLY vertices have no '") + axis + "' property");
+      return;
+    }
+    if (keyword == "element") {
+      double count = 0;
+      if (!(words >> name >> count) || !(count >= 0))
+        fail_file(path, "PLY header line " + std::to_string(lines) + ": expected 'element <name> <count>'");
+      elements.emplace_back(name, count > 1e18 ? uintmax_t(1e18) : static_cast<uintmax_t>(count));
+    } else if (keyword == "property") {
+      std::string last;
+      while (words >> name) last = name;
+      if (elements.empty() || last.empty())
+        fail_file(path, "PLY header line " + std::to_string(lines) + ": a property outside an element");
+      if (elements.back().first == "vertex") vertex_properties.insert(last);
+    } else if (!keyword.empty() && keyword != "format" && keyword != "comment" && keyword != "obj_info") {
+      fail_file(path, "PLY header line " + std::to_string(lines) + ": unknown keyword '" + keyword.substr(0, 32) + "'");
+    }
+  }
+  fail_file(path, "PLY header has no end_header line within " + std::to_string(kMaxPlyHeaderLines) + " lines");
 }
 
 void append_node(const aiScene* scene, const aiNode* node, const aiMatrix4x4& parent,
@@ -66,6 +124,7 @@ void append_node(const aiScene* scene, const aiNode* node, const aiMatrix4x4& pa
 
 TriMesh read_mesh(const std::string& path, const MeshReadOptions& options, CleanReport* report) {
   check_readable(path);
+  check_ply_header(path);  // whatever the extension: assimp picks its PLY reader by content too
   Assimp::Importer importer;
   // Only triangulation and validation: welding is ours (tolerance relative to the bbox).
   const aiScene* scene = importer.ReadFile(

@@ -18,8 +18,11 @@ Eigen::SparseMatrix<double> quasi_newton_hessian(const ClothGeometry& cloth,
 
   std::vector<Eigen::Triplet<double>> entries;
   entries.reserve(static_cast<size_t>(faces.size(0)) * 9 + row_of_vertex.size());
+  // A vertex touching only zero-area faces has no mass and no stiffness: a unit diagonal
+  // (the solver's inertia preconditioner uses the same unit scale) keeps H positive definite.
   for (size_t v = 0; v < row_of_vertex.size(); ++v)
-    if (row_of_vertex[v] >= 0) entries.emplace_back(row_of_vertex[v], row_of_vertex[v], m[v] / (dt * dt));
+    if (row_of_vertex[v] >= 0)
+      entries.emplace_back(row_of_vertex[v], row_of_vertex[v], m[v] > 0 ? m[v] / (dt * dt) : 1.0);
   const double modulus = material.thickness * (2 * material.mu + material.lambda);
   for (int64_t f = 0; f < faces.size(0); ++f) {
     // F = Ds Dm^-1 = sum_i x_i grad_i^T: vertex 1 <-> row 0 of Dm^-1, vertex 2 <-> row 1,

@@ -9,6 +9,7 @@
 #include "pb4u/garment/import_garment.h"
 #include "pb4u/garment/skin_weight_transfer.h"
 #include "pb4u/io/mesh_io.h"
+#include "pb4u/mesh/topology.h"
 #include "pb4u/util/error.h"
 
 namespace pb4u {
@@ -112,6 +113,12 @@ SceneSetup build_scene(const SceneConfig& scene, const std::string& where) {
     const std::string path = resolve(g.file, where);
     garment.name = fs::path(path).stem().string();
     garment.mesh = g.triangles > 0 ? import_garment(path, g.triangles) : read_mesh(path);
+    // Bending needs two faces per interior edge, the network a fan per vertex.
+    const ManifoldReport manifold = check_manifold(garment.mesh.F, garment.mesh.num_vertices());
+    if (!manifold.manifold())
+      fail_file(path, "the garment is not manifold (" + std::to_string(manifold.nonmanifold_edges) +
+                          " edges with more than two faces, " + std::to_string(manifold.nonmanifold_vertices) +
+                          " non-manifold vertices); repair it first");
     if (has_body) garment.weights = transfer_skin_weights(garment.mesh.V, record->body);
   } else {
     garment.name = "square";

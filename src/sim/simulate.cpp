@@ -33,6 +33,21 @@ void plot_energies(const std::string& csv, const std::string& png, std::vector<s
 
 }  // namespace
 
+RolloutInput scene_rollout_input(const SceneConfig& scene, const SceneSetup& setup) {
+  RolloutInput in;
+  in.garment_rest = setup.garment;
+  in.x0 = setup.x0;
+  in.x_prev = setup.x_prev;
+  in.body = setup.body;
+  in.body_faces = setup.body_faces;
+  in.pinned = setup.pinned;
+  in.effects = setup.effects;
+  in.material = scene.material;
+  in.metric_material = scene.material;
+  in.steps = scene.frames;
+  return in;
+}
+
 SimulateResult simulate(const SceneConfig& scene, const std::string& scene_path, const ModelFile* model,
                         const std::string& out_dir) {
   SceneSetup setup = build_scene(scene, scene_path);
@@ -45,17 +60,7 @@ SimulateResult simulate(const SceneConfig& scene, const std::string& scene_path,
   const bool body_written = !setup.body.empty();
   RolloutWriter writer(out_dir, setup.garment.F, body_written ? setup.body_faces : Eigen::MatrixXi(), outputs);
 
-  RolloutInput in;
-  in.garment_rest = setup.garment;
-  in.x0 = setup.x0;
-  in.x_prev = setup.x_prev;
-  in.body = setup.body;
-  in.body_faces = setup.body_faces;
-  in.pinned = setup.pinned;
-  in.effects = setup.effects;
-  in.material = scene.material;
-  in.metric_material = scene.material;
-  in.steps = scene.frames;
+  RolloutInput in = scene_rollout_input(scene, setup);
 
   GarmentTopology topology;
   StepFunction step;

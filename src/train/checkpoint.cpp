@@ -80,6 +80,10 @@ void open_archive(torch::serialize::InputArchive& ar, const std::string& path) {
   } catch (const c10::Error& e) {
     fail_file(path, "corrupt or truncated checkpoint (" +
                         std::string(e.what_without_backtrace()).substr(0, 160) + ")");
+  } catch (const std::exception& e) {
+    // TorchScript's importer reports a damaged archive with std::runtime_error (found by
+    // checkpoint_fuzz), not c10::Error.
+    fail_file(path, "corrupt or truncated checkpoint (" + std::string(e.what()).substr(0, 160) + ")");
   }
 }
 

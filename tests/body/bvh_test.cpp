@@ -115,4 +115,16 @@ TEST(Bvh, MalformedFilesGiveOneLineErrorsNamingTheFile) {
   expect_error(text + " 7", "extra values");
   expect_error("", "empty");
   EXPECT_THROW(read_bvh("/nonexistent/file.bvh"), Error);
+  // Hostile headers: more frames than values, a frame lasting a day, no channels,
+  // joints nested deeper than any skeleton.
+  const size_t frames = text.find("Frames:"), frame_time = text.find("Frame Time:");
+  expect_error(std::string(text).replace(frames, text.find('\n', frames) - frames, "Frames: 7000"),
+               "frames its header declares");
+  expect_error(std::string(text).replace(frame_time, text.find('\n', frame_time) - frame_time, "Frame Time: 86400"),
+               "more than 3600");
+  std::string deep = "HIERARCHY\nROOT r\n{\nOFFSET 0 0 0\nCHANNELS 3 Xrotation Yrotation Zrotation\n";
+  for (int i = 0; i < 1100; ++i) deep += "JOINT j\n{\nOFFSET 0 0 0\nCHANNELS 0\n";
+  expect_error(deep, "nested more than");
+  expect_error("HIERARCHY\nROOT r\n{\nOFFSET 0 0 0\nCHANNELS 0\n}\nMOTION\nFrames: 1000\nFrame Time: 0.001\n",
+               "no joint has channels");
 }

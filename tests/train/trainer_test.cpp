@@ -15,6 +15,7 @@
 #include "pb4u/train/metrics_log.h"
 #include "pb4u/train/trainer.h"
 #include "pb4u/train/training_data.h"
+#include "pb4u/util/error.h"
 #include "pb4u/util/runtime.h"
 #include "test_util.h"
 
@@ -136,6 +137,15 @@ TEST(TrainCommand, SigkillAlwaysLeavesALoadableCheckpoint) {
                           "/configs/train/tiny.yaml --set run.steps=400 --set run.checkpoint_every=1"
                           " --set data.dataset=" + test::tiny_dataset() + " --out " + out;
   std::mt19937 rng(11);
+  int64_t last_step = 0;
+  auto latest_step = [&]() -> int64_t {
+    try {  // the file may be pruned between listing and reading it
+      std::string latest = latest_checkpoint(out + "/checkpoints");
+      return latest.empty() ? 0 : read_checkpoint_meta(latest).step;
+    } catch (const Error&) {
+      return 0;
+    }
+  };
   for (int round = 0; round < 4; ++round) {
     pid_t pid = fork();
     ASSERT_GE(pid, 0);
@@ -144,9 +154,10 @@ TEST(TrainCommand, SigkillAlwaysLeavesALoadableCheckpoint) {
       execl("/bin/sh", "sh", "-c", ("exec " + run).c_str(), static_cast<char*>(nullptr));
       _exit(127);
     }
-    // Wait for a first checkpoint, then kill at a random moment (mid-write included).
+    // Wait for a checkpoint newer than the last round's (the resumed run continues), then
+    // kill at a random moment (mid-write included).
     auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
-    while (latest_checkpoint(out + "/checkpoints").empty() && std::chrono::steady_clock::now() < deadline)
+    while (latest_step() <= last_step && std::chrono::steady_clock::now() < deadline)
       std::this_thread::sleep_for(std::chrono::milliseconds(20));
     std::this_thread::sleep_for(std::chrono::milliseconds(std::uniform_int_distribution<int>(0, 700)(rng)));
     kill(pid, SIGKILL);
@@ -154,7 +165,10 @@ TEST(TrainCommand, SigkillAlwaysLeavesALoadableCheckpoint) {
     waitpid(pid, &status, 0);
     std::string latest = latest_checkpoint(out + "/checkpoints");
     ASSERT_FALSE(latest.empty()) << "round " << round;
-    EXPECT_NO_THROW(read_checkpoint_meta(latest)) << latest;
+    int64_t step = 0;
+    EXPECT_NO_THROW(step = read_checkpoint_meta(latest).step) << latest;
+    EXPECT_GT(step, last_step) << "round " << round << ": the resumed run made no progress";
+    last_step = step;
   }
 }
 

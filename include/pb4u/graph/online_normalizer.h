@@ -7,8 +7,8 @@
 namespace pb4u {
 
 struct OnlineNormalizerImpl : torch::nn::Module {
-  // dim: feature width; std_epsilon: floor of the standard deviation (a constant feature
-  // would otherwise divide by zero).
+  // dim: feature width; std_epsilon: a feature whose standard deviation is below this never
+  // varied in the data seen; it is centred but not scaled (std 1).
   OnlineNormalizerImpl(int64_t dim, int64_t max_accumulations, double std_epsilon);
 
   // x (rows, dim) -> (x - mean) / std, float. Accumulates x first while training and not
@@ -16,7 +16,7 @@ struct OnlineNormalizerImpl : torch::nn::Module {
   torch::Tensor forward(const torch::Tensor& x);
 
   torch::Tensor mean() const;  // (dim) float64; 0 before any data
-  torch::Tensor std() const;   // (dim) float64; 1 before any data, else >= std_epsilon
+  torch::Tensor std() const;   // (dim) float64; 1 before any data and for constant features, else >= std_epsilon
   bool frozen() const { return accumulations.item<int64_t>() >= max_accumulations; }
 
   int64_t max_accumulations;

@@ -14,7 +14,8 @@ namespace pb4u {
 
 // H = M / dt^2 + sum_f A_f h (2 mu + lambda) G_f^T G_f, shared by x, y and z: G_f (2 x 3) holds
 // the gradients (1/m) of face f's linear shape functions at rest, M the lumped masses (kg),
-// dt in s, so H is in N/m. row_of_vertex (size n): the row of each vertex, -1 to leave it
+// dt in s, so H is in N/m (a massless vertex, touching only zero-area faces, gets 1 N/m on its
+// diagonal). row_of_vertex (size n): the row of each vertex, -1 to leave it
 // out (pinned vertices); the result is k x k with k the number of kept vertices.
 Eigen::SparseMatrix<double> quasi_newton_hessian(const ClothGeometry& cloth,
                                                  const Material& material, double dt,

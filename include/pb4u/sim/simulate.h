@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "pb4u/eval/model_file.h"
+#include "pb4u/eval/rollout.h"
 #include "pb4u/sim/scene.h"
 
 namespace pb4u {
@@ -17,6 +18,10 @@ struct SimulateResult {
   std::vector<std::string> files;  // everything written
   std::vector<std::string> terms;  // the energies' columns
 };
+
+// What a rollout of the built scene starts from: garment, body frames, pins, effects, the
+// scene's material (also the metric material) and its frame count.
+RolloutInput scene_rollout_input(const SceneConfig& scene, const SceneSetup& setup);
 
 // Rolls `scene` out into `out_dir` (created if needed). model: null for the reference
 // solver. A divergence stops the rollout and keeps the frames written so far (reported in
