@@ -116,29 +116,13 @@ double message_passing_flops(const ModelConfig& c, int64_t nodes, int64_t mesh_e
   return flops;
 }
 
-// Frame 0 of a rollout input as the state the network and physics see.
-FrameState first_state(const RolloutInput& in) {
-  FrameState s;
-  s.x = matrix_to_tensor(in.x0);
-  s.x_prev = matrix_to_tensor(in.x_prev);
-  s.effects = in.effects;
-  s.material = in.material;
-  s.dt = in.dt;
-  if (in.effects.needs_body()) {
-    s.body.vertices = matrix_to_tensor(in.body.at(0));
-    s.body.next_vertices = matrix_to_tensor(in.body.at(1));
-    s.body.faces = index_matrix_to_tensor(in.body_faces);
-  }
-  return s;
-}
-
 // One network frame split into its stages, median over `repeats` (after one warm-up).
 // The dense matmul is timed in each repeat too, so the FLOP-rate ratio compares the two under
 // the same machine load.
 StageRow time_stages(Pb4uNet& net, const GarmentTopology& topology, const RolloutInput& in,
                      const PhysicsConfig& physics, int repeats, DenseMatmul& matmul) {
   c10::InferenceMode guard;
-  const FrameState state = first_state(in);
+  const FrameState state = rollout_start_state(in);
   const ClothGeometry cloth = make_cloth_geometry(in.garment_rest, torch::kFloat64, torch::kCPU, false,
                                                   physics.degenerate_area);
   const TermList terms = build_terms(in.effects, physics);
@@ -224,13 +208,8 @@ BenchRow run_one(const Run& run, const RolloutInput& body_input, const RolloutIn
   row.family = run.family;
   row.iterations = run.iterations;
   if (run.model) {
-    Pb4uNet net = run.model->model;
-    const int64_t k = run.k_override;
-    step = [net, topology, k](const FrameState& state, const ClothGeometry&, const TermList&,
-                              const BodyContact*) mutable {
-      return net->step(state, topology, k).to(torch::kFloat64);
-    };
-    row.K = k >= 0 ? k : net->propagation_steps_for(topology.mean_edge_length);
+    step = network_stepper(*run.model, topology, run.k_override);
+    row.K = run.k_override >= 0 ? run.k_override : run.model->model->propagation_steps_for(topology.mean_edge_length);
   } else {
     physics.solver.max_iterations = run.iterations;
     step = reference_stepper(physics.solver);

@@ -1,5 +1,6 @@
 #include "pb4u/eval/rollout.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 
@@ -29,22 +30,24 @@ RolloutInput lbs_rollout_input(const Body& body, const Garment& garment, const M
   return in;
 }
 
-StepFunction network_stepper(const ModelFile& model, const GarmentTopology& topology) {
+StepFunction network_stepper(const ModelFile& model, const GarmentTopology& topology, int64_t k_override) {
   Pb4uNet net = model.model;
   // The network (graph building included) runs where its weights are (--device); the
   // float64 physics state and metrics stay on the host.
   const torch::Device device = net->parameters().front().device();
   if (device.is_cpu())
-    return [net, topology](const FrameState& state, const ClothGeometry&, const TermList&,
-                           const BodyContact*) mutable { return net->step(state, topology).to(torch::kFloat64); };
+    return [net, topology, k_override](const FrameState& state, const ClothGeometry&, const TermList&,
+                                       const BodyContact*) mutable {
+      return net->step(state, topology, k_override).to(torch::kFloat64);
+    };
   GarmentTopology on_device = garment_topology_to(topology, device);
-  return [net, on_device, device](const FrameState& state, const ClothGeometry&, const TermList&,
+  return [net, on_device, device, k_override](const FrameState& state, const ClothGeometry&, const TermList&,
                                   const BodyContact*) mutable {
     FrameState s = state;
     for (torch::Tensor* t : {&s.x, &s.x_prev, &s.pinned, &s.pin_targets, &s.body.vertices,
                              &s.body.next_vertices, &s.body.faces})
       if (t->defined()) *t = t->to(device);
-    return net->step(s, on_device).to(torch::kCPU, torch::kFloat64);
+    return net->step(s, on_device, k_override).to(torch::kCPU, torch::kFloat64);
   };
 }
 
@@ -77,19 +80,13 @@ int worst_vertex(const torch::Tensor& x, const torch::Tensor& x_next) {
 
 }  // namespace
 
-RolloutResult run_rollout(const RolloutInput& in, const StepFunction& step,
-                          const PhysicsConfig& physics, const FrameCallback& on_frame) {
+FrameState rollout_start_state(const RolloutInput& in) {
   const int64_t n = in.garment_rest.V.rows();
   if (in.x0.rows() != n || in.x_prev.rows() != n || in.x0.cols() != 3 || in.x_prev.cols() != 3)
     throw Error("rollout: initial garment state does not match the rest mesh's " + std::to_string(n) + " vertices");
-  const bool with_body = in.effects.needs_body();
-  if (with_body && int(in.body.size()) < in.steps + 1)
+  if (in.effects.needs_body() && int(in.body.size()) < std::max(in.steps + 1, 1))
     throw Error("rollout: the effects need a body but " + std::to_string(in.body.size()) +
                 " body frames were given for " + std::to_string(in.steps) + " steps");
-  ClothGeometry cloth = make_cloth_geometry(in.garment_rest, torch::kFloat64, torch::kCPU, false,
-                                            physics.degenerate_area);
-  TermList terms = build_terms(in.effects, physics);
-
   FrameState state;
   state.x = matrix_to_tensor(in.x0);
   state.x_prev = matrix_to_tensor(in.x_prev);
@@ -104,17 +101,27 @@ RolloutResult run_rollout(const RolloutInput& in, const StepFunction& step,
     }
     state.pin_targets = state.x.clone();
   }
-  torch::Tensor body_faces;
-  if (with_body) {
-    body_faces = index_matrix_to_tensor(in.body_faces);
+  if (in.effects.needs_body()) {
+    state.body.vertices = matrix_to_tensor(in.body[0]);
+    state.body.next_vertices = matrix_to_tensor(in.body[std::min<size_t>(1, in.body.size() - 1)]);
+    state.body.faces = index_matrix_to_tensor(in.body_faces);
   }
+  return state;
+}
+
+RolloutResult run_rollout(const RolloutInput& in, const StepFunction& step,
+                          const PhysicsConfig& physics, const FrameCallback& on_frame) {
+  FrameState state = rollout_start_state(in);
+  const bool with_body = in.effects.needs_body();
+  ClothGeometry cloth = make_cloth_geometry(in.garment_rest, torch::kFloat64, torch::kCPU, false,
+                                            physics.degenerate_area);
+  TermList terms = build_terms(in.effects, physics);
 
   RolloutResult result;
   for (int frame = 1; frame <= in.steps; ++frame) {
-    if (with_body) {
+    if (with_body && frame > 1) {
       state.body.vertices = matrix_to_tensor(in.body[frame - 1]);
       state.body.next_vertices = matrix_to_tensor(in.body[frame]);
-      state.body.faces = body_faces;
     }
     auto t0 = std::chrono::steady_clock::now();
     std::optional<BodyContact> contact = body_contact_for(state, physics);

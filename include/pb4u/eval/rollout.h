@@ -46,8 +46,8 @@ RolloutInput lbs_rollout_input(const Body& body, const Garment& garment, const M
 using StepFunction = std::function<torch::Tensor(const FrameState& state, const ClothGeometry& cloth,
                                                  const TermList& terms, const BodyContact* contact)>;
 
-// The network's step (K from its calibration and the garment's Lbar).
-StepFunction network_stepper(const ModelFile& model, const GarmentTopology& topology);
+// The network's step: K from its calibration and the garment's Lbar, or `k_override` if >= 0.
+StepFunction network_stepper(const ModelFile& model, const GarmentTopology& topology, int64_t k_override = -1);
 // The reference solver's step (SPEC 8).
 StepFunction reference_stepper(const ReferenceSolverConfig& solver);
 
@@ -63,6 +63,10 @@ struct RolloutResult {
 
 // Called with frame index (1..steps), garment positions (n x 3 m) and the frame's energies.
 using FrameCallback = std::function<void(int frame, const Eigen::MatrixXd& garment, const EnergyReport& report)>;
+
+// Frame 0 of the rollout as the stepper sees it: positions, effects, material, pins and, when
+// the effects need a body, the body at frames 0 and 1. Throws pb4u::Error on inconsistent input.
+FrameState rollout_start_state(const RolloutInput& input);
 
 // Runs the rollout; a non-finite frame stops it (reported, never thrown). Throws pb4u::Error
 // on inconsistent input (sizes, a body missing when the effects need one).
