@@ -2,13 +2,13 @@
 #include <spdlog/spdlog.h>
 
 #include <CLI/CLI.hpp>
-#include <cstdlib>
 #include <filesystem>
 #include <iostream>
 
 #include "pb4u/cli/commands.h"
 #include "pb4u/eval/bench.h"
 #include "pb4u/util/atomic_file.h"
+#include "pb4u/util/plot_script.h"
 #include "pb4u/util/error.h"
 
 namespace pb4u {
@@ -20,18 +20,6 @@ void write_text(const std::string& path, const std::string& text) {
   AtomicFile f(path);
   f.stream() << text;
   f.commit();
-}
-
-// The three figures, by scripts/plot_bench.py when a Python with matplotlib is there.
-void plot(const std::string& out_dir) {
-  const std::string python = "/usr/bin/python3";
-  const std::string script = std::string(PB4U_SOURCE_DIR) + "/scripts/plot_bench.py";
-  if (!fs::exists(python) || !fs::exists(script)) {
-    spdlog::warn("no {} or {}: skipping the plots", python, script);
-    return;
-  }
-  const std::string cmd = python + " '" + script + "' '" + out_dir + "' > /dev/null 2>&1";
-  if (std::system(cmd.c_str()) != 0) spdlog::warn("plot_bench.py failed (matplotlib missing?): no plots");
 }
 
 }  // namespace
@@ -66,7 +54,7 @@ void add_bench_command(CLI::App& app, const GlobalOptions& global) {
       save_config(config, (out / "bench_config.yaml").string());
     };
     const BenchResult result = run_bench(config, write_all);
-    plot(args->out);
+    run_plot_script("plot_bench.py", {args->out});  // the three figures
     std::cout << format_bench_table(result);
     spdlog::info("wrote bench.csv, bench_details.csv, stages.csv, table.txt and plots to {}", args->out);
   });

@@ -2,12 +2,12 @@
 
 #include <spdlog/spdlog.h>
 
-#include <cstdlib>
 #include <filesystem>
 #include <limits>
 
 #include "pb4u/eval/rollout.h"
 #include "pb4u/util/atomic_file.h"
+#include "pb4u/util/plot_script.h"
 #include "pb4u/util/progress.h"
 
 namespace pb4u {
@@ -15,20 +15,9 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// Figure 3: log energies vs time, by scripts/plot_energies.py when a Python is there.
+// Figure 3: log energies vs time.
 void plot_energies(const std::string& csv, const std::string& png, std::vector<std::string>* files) {
-  const std::string python = "/usr/bin/python3";
-  const std::string script = std::string(PB4U_SOURCE_DIR) + "/scripts/plot_energies.py";
-  if (!fs::exists(python) || !fs::exists(script)) {
-    spdlog::warn("no {} or {}: skipping the energy plot", python, script);
-    return;
-  }
-  const std::string cmd = python + " '" + script + "' '" + csv + "' '" + png + "' > /dev/null 2>&1";
-  if (std::system(cmd.c_str()) != 0 || !fs::exists(png)) {
-    spdlog::warn("plot_energies.py failed (matplotlib missing?): no {}", png);
-    return;
-  }
-  files->push_back(png);
+  if (run_plot_script("plot_energies.py", {csv, png}) && fs::exists(png)) files->push_back(png);
 }
 
 }  // namespace
