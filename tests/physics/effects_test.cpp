@@ -141,6 +141,12 @@ TEST(CollisionWeight, RampsFromStartToEnd) {
   EXPECT_NEAR(collision_weight(c, c.ramp_steps / 2), std::sqrt(c.weight_start * c.weight_end), 1e-6);
   c.ramp = "linear";
   EXPECT_NEAR(collision_weight(c, c.ramp_steps / 2), 0.5 * (c.weight_start + c.weight_end), 1e-9);
+  // A hold keeps the start weight, then the same ramp follows, shifted.
+  c.hold_steps = 1000;
+  EXPECT_DOUBLE_EQ(collision_weight(c, 999), c.weight_start);
+  EXPECT_DOUBLE_EQ(collision_weight(c, 1000), c.weight_start);
+  EXPECT_NEAR(collision_weight(c, 1000 + c.ramp_steps / 2), 0.5 * (c.weight_start + c.weight_end), 1e-9);
+  EXPECT_DOUBLE_EQ(collision_weight(c, 1000 + c.ramp_steps), c.weight_end);
   // The built term carries the weight it was given; evaluation gets the final one.
   Effects all;
   TermList t = build_terms(all, PhysicsConfig{}, 7e3);

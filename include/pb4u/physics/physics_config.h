@@ -13,7 +13,8 @@ struct CollisionConfig {
   double eps = 2e-3;          // m: penalty acts closer than this to the body surface
   double weight_start = 5e3;  // J/m^3: weight at training step 0
   double weight_end = 5e5;    // J/m^3: final weight, also the evaluation weight
-  int ramp_steps = 50000;     // training steps over which the weight ramps start -> end
+  int hold_steps = 0;         // training steps at weight_start before the ramp begins
+  int ramp_steps = 50000;     // training steps over which the weight then ramps start -> end
   std::string ramp = "exponential";  // exponential (geometric) | linear | constant (= end)
 
   template <class V>
@@ -21,6 +22,7 @@ struct CollisionConfig {
     v("eps", eps, positive());
     v("weight_start", weight_start, positive());
     v("weight_end", weight_end, positive());
+    v("hold_steps", hold_steps, int_at_least(0));
     v("ramp_steps", ramp_steps, int_at_least(0));
     v("ramp", ramp, one_of({"exponential", "linear", "constant"}));
   }
@@ -84,8 +86,9 @@ struct PhysicsConfig {
   }
 };
 
-// The collision weight at a training step under the configured ramp; the final weight
-// (weight_end) from ramp_steps on. Evaluation uses weight_end.
+// The collision weight at a training step: weight_start for hold_steps, then the configured
+// ramp over ramp_steps; the final weight (weight_end) from hold_steps + ramp_steps on.
+// Evaluation uses weight_end.
 double collision_weight(const CollisionConfig& config, int64_t step);
 
 }  // namespace pb4u
