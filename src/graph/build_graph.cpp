@@ -75,7 +75,7 @@ GraphBatch build_graph(const FrameState& state, const GarmentTopology& topology,
   g.mean_edge_length = topology.mean_edge_length;
   g.world_senders = torch::empty({0}, index_options);
   g.world_receivers = torch::empty({0}, index_options);
-  g.world_features = torch::empty({0, kWorldEdgeFeatureDim}, torch::TensorOptions().device(dev));
+  g.world_features = torch::empty({0, options.world_edge_feature_dim()}, torch::TensorOptions().device(dev));
   g.body_vertex_index = torch::empty({0}, index_options);
   g.node_features = garment;
   if (!state.effects.needs_body() || !state.body.defined()) return g;
@@ -120,6 +120,15 @@ GraphBatch build_graph(const FrameState& state, const GarmentTopology& topology,
   g.world_receivers = torch::cat({garment_node, body_node});
   auto p = torch::cat({x, b_now}, 0), q = torch::cat({x + v * state.dt, b_next}, 0);
   g.world_features = world_edge_features(p, q, g.world_senders, g.world_receivers);
+  if (options.body_normal_distance) {
+    // One value per pair, the same on both directed edges.
+    auto slot = body_node - n;  // the pair's body vertex among used_t
+    auto next_normals = vertex_normals(bx_next, body.faces.to(torch::kInt64)).index_select(0, used_t);
+    auto d = body_normal_distances(x.index_select(0, garment_node), q.index_select(0, garment_node),
+                                   b_now.index_select(0, slot), b_next.index_select(0, slot),
+                                   body_normals.index_select(0, slot), next_normals.index_select(0, slot));
+    g.world_features = torch::cat({g.world_features, torch::cat({d, d}, 0)}, 1);
+  }
   return g;
 }
 

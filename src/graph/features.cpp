@@ -49,4 +49,10 @@ torch::Tensor world_edge_features(const torch::Tensor& p, const torch::Tensor& q
   return torch::cat({dp, dp.norm(2, 1, true), dq, dq.norm(2, 1, true)}, 1);
 }
 
+torch::Tensor body_normal_distances(const torch::Tensor& x, const torch::Tensor& x_coast,
+                                    const torch::Tensor& b, const torch::Tensor& b_next,
+                                    const torch::Tensor& n, const torch::Tensor& n_next) {
+  return torch::stack({((x - b) * n).sum(1), ((x_coast - b_next) * n_next).sum(1)}, 1);
+}
+
 }  // namespace pb4u

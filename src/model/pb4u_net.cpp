@@ -36,13 +36,14 @@ Pb4uNetImpl::Pb4uNetImpl(const ModelConfig& c) : config(c) {
   };
   vertex_normalizer = normalizer("vertex_normalizer", kVertexFeatureDim);
   mesh_normalizer = normalizer("mesh_normalizer", kMeshEdgeFeatureDim);
-  world_normalizer = normalizer("world_normalizer", kWorldEdgeFeatureDim);
+  const int64_t world_dim = config.graph_options().world_edge_feature_dim();
+  world_normalizer = normalizer("world_normalizer", world_dim);
   auto encoder = [&](const char* name, int64_t dim) {
     return register_module(name, MLP(std::vector<int64_t>{dim}, H, H, L, true));
   };
   vertex_encoder = encoder("vertex_encoder", kVertexFeatureDim);
   mesh_encoder = encoder("mesh_encoder", kMeshEdgeFeatureDim);
-  world_encoder = encoder("world_encoder", kWorldEdgeFeatureDim);
+  world_encoder = encoder("world_encoder", world_dim);
   if (config.is_pb4u()) {
     propagation = register_module("propagation", DecayedPropagation(H, L, config.gamma));
     update = register_module("update", MLP(std::vector<int64_t>{H, H}, H, H, L, true));
@@ -88,7 +89,7 @@ torch::Tensor Pb4uNetImpl::forward(const GraphBatch& g, int64_t K, StageTimes* t
   clock.lap(times ? &times->blocks : nullptr);
   auto a = decoder->forward({latent.nodes.narrow(0, 0, g.num_garment_nodes)});
   auto s = update_scale(g.vertex_mean_edge_length, mean_edge_length_base(), config.update_scaling_on());
-  a = a * s;
+  a = a * (s * config.acceleration_unit);
   clock.lap(times ? &times->decode : nullptr);
   return a;
 }

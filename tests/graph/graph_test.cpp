@@ -143,6 +143,32 @@ TEST(BuildGraph, FeaturesOfTheTinyScene) {
   EXPECT_TRUE(torch::allclose(g.world_features.narrow(1, 0, 3).norm(2, 1), p, 1e-5, 1e-6));
 }
 
+// The tiny body is a flat grid at y = 0 (y = 0.004 at the next pose) with normals along +-y:
+// the two normal-distance features are then the garment vertex's height over it, now and
+// after coasting one step, times the normal's sign.
+TEST(BuildGraph, WorldEdgesCarryTheHeightOverTheBodysTangentPlane) {
+  auto s = tiny_scene(2);
+  GarmentTopology t = build_garment_topology(s.rest);
+  GraphOptions options;
+  options.body_normal_distance = true;
+  GraphBatch g = build_graph(s.state, t, options);
+  ASSERT_EQ(g.world_features.size(1), options.world_edge_feature_dim());
+  ASSERT_EQ(g.world_features.size(1), kWorldEdgeFeatureDim + kWorldEdgeNormalDistanceDim);
+  ASSERT_GT(g.num_world_edges(), 0);
+  const double sign = vertex_normals(s.state.body.vertices, s.state.body.faces)[0][1].item<double>() > 0 ? 1 : -1;
+  const int64_t n = g.num_garment_nodes;
+  auto x = s.state.x.to(torch::kFloat32), coast = (2 * s.state.x - s.state.x_prev).to(torch::kFloat32);
+  for (int64_t e = 0; e < g.num_world_edges(); ++e) {
+    int64_t r = g.world_receivers[e].item<int64_t>(), snd = g.world_senders[e].item<int64_t>();
+    const int64_t garment = r < n ? r : snd;
+    EXPECT_NEAR(g.world_features[e][8].item<float>(), sign * x[garment][1].item<float>(), 1e-5);
+    EXPECT_NEAR(g.world_features[e][9].item<float>(), sign * (coast[garment][1].item<float>() - 0.004), 1e-5);
+  }
+  // Off (the default), the original 8 features, the same as the first 8 here.
+  GraphBatch plain = build_graph(s.state, t, GraphOptions{});
+  EXPECT_TRUE(torch::equal(plain.world_features, g.world_features.narrow(1, 0, 8)));
+}
+
 TEST(BuildGraph, NoBodyEffectsMeansNoWorldEdges) {
   auto s = tiny_scene(4);
   s.state.effects.collision = s.state.effects.friction = false;

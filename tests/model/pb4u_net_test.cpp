@@ -188,5 +188,20 @@ TEST(Pb4uNet, UncalibratedModelIsAClearError) {
   EXPECT_THROW(Pb4uNet{bad}, Error);
 }
 
+// model.acceleration_unit scales the decoder's output and nothing else: the same weights give
+// u times the acceleration. With world_normal_distance on, the world encoder takes 10 inputs.
+TEST(Pb4uNet, AccelerationUnitScalesTheOutputAndNormalDistanceWidensWorldEdges) {
+  ModelConfig c = tiny_config();
+  Pb4uNet a = warmed_model(c, 3);
+  c.acceleration_unit = 10.0;
+  Pb4uNet b = warmed_model(c, 3);
+  auto s = tiny_scene(12, true);
+  EXPECT_TRUE(torch::allclose(predict(b, s), 10.0 * predict(a, s), 1e-5, 1e-6));
+  c.world_normal_distance = "on";
+  Pb4uNet wide = warmed_model(c, 3);
+  EXPECT_EQ(wide->world_encoder->first_weights[0].size(1), 10);
+  EXPECT_TRUE(torch::isfinite(predict(wide, s)).all().item<bool>());
+}
+
 }  // namespace
 }  // namespace pb4u

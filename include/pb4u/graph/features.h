@@ -32,4 +32,11 @@ torch::Tensor mesh_edge_features(const torch::Tensor& x, const GarmentTopology& 
 torch::Tensor world_edge_features(const torch::Tensor& p, const torch::Tensor& q,
                                   const torch::Tensor& senders, const torch::Tensor& receivers);
 
+// (P, 2) per garment/body vertex pair (rows gathered per pair): the garment vertex's signed
+// height over the body vertex's tangent plane now, (x - b).n, and if it coasts, against the
+// next pose, (x + v dt - b').n' (m; negative = behind the surface).
+torch::Tensor body_normal_distances(const torch::Tensor& x, const torch::Tensor& x_coast,
+                                    const torch::Tensor& b, const torch::Tensor& b_next,
+                                    const torch::Tensor& n, const torch::Tensor& n_next);
+
 }  // namespace pb4u

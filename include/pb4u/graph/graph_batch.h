@@ -9,7 +9,10 @@ namespace pb4u {
 // Feature widths (layout in docs/model.md and graph/features.h).
 constexpr int64_t kVertexFeatureDim = 21;
 constexpr int64_t kMeshEdgeFeatureDim = 7;
-constexpr int64_t kWorldEdgeFeatureDim = 8;
+constexpr int64_t kWorldEdgeFeatureDim = 8;  // without the body-normal distances
+// With GraphOptions::body_normal_distance: + the garment vertex's height over the body vertex's
+// tangent plane, now and at the ballistic guess against the next pose.
+constexpr int64_t kWorldEdgeNormalDistanceDim = 2;
 
 struct GraphBatch {
   torch::Tensor node_features;                   // (nodes, 21) float
@@ -17,7 +20,7 @@ struct GraphBatch {
   torch::Tensor mesh_senders, mesh_receivers;    // (Em) int64, garment node ids
   torch::Tensor mesh_features;                   // (Em, 7) float
   torch::Tensor world_senders, world_receivers;  // (Ew) int64, Ew may be 0
-  torch::Tensor world_features;                  // (Ew, 8) float
+  torch::Tensor world_features;                  // (Ew, 8 or 10) float
   torch::Tensor body_vertex_index;               // (nodes - n) int64: body vertex of each body node
   torch::Tensor vertex_mean_edge_length;         // (n) float, m: numerator of the update scaling
   double mean_edge_length = 0;                   // m: the garment's Lbar, which sets K

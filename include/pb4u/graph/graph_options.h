@@ -10,6 +10,11 @@ struct GraphOptions {
   double world_edge_radius = 0.03;  // m
   bool nearest_body_vertex_only = true;  // one world edge per garment vertex (else all in radius)
   MaterialRanges material_ranges;        // normalises the material inputs
+  // World edges also carry (x - b).n_b now and (x + v dt - b').n_b' at the next pose: how far
+  // the garment vertex is, and will be if it coasts, above the body's tangent plane (m).
+  bool body_normal_distance = false;
+
+  int64_t world_edge_feature_dim() const { return body_normal_distance ? 10 : 8; }
 };
 
 }  // namespace pb4u

@@ -21,6 +21,12 @@ struct ModelConfig {
   double gamma = 0.9;                      // decay of the propagation residual
   double world_edge_radius = 0.03;         // m, garment<->body world edges
   std::string world_edges = "nearest";     // nearest: to the nearest body vertex; radius: all
+  // on: world edges also carry the garment vertex's signed height over the body vertex's
+  // tangent plane, now and at the next pose (off: the original 8 features; older models).
+  std::string world_normal_distance = "off";
+  // m/s^2 per decoder output unit: the decoder's natural O(1) output covers gravity-scale
+  // accelerations when this is ~10 (1 = older models, which emit m/s^2 directly).
+  double acceleration_unit = 1.0;
   int normalizer_warmup = 1000;            // training forward calls that feed the normalisers
   double normalizer_epsilon = 1e-8;        // floor of a feature's standard deviation
   // Training samples K uniformly from [lo * K_base, hi * K_base] (integers).
@@ -32,7 +38,7 @@ struct ModelConfig {
   bool propagation_control_on() const { return propagation_control == "on"; }
   bool update_scaling_on() const { return update_scaling == "on"; }
   GraphOptions graph_options() const {
-    return {world_edge_radius, world_edges == "nearest", material_ranges};
+    return {world_edge_radius, world_edges == "nearest", material_ranges, world_normal_distance == "on"};
   }
 
   template <class V>
@@ -47,6 +53,8 @@ struct ModelConfig {
     v("gamma", gamma, in_range(0.0, 1.0));
     v("world_edge_radius", world_edge_radius, positive());
     v("world_edges", world_edges, one_of({"nearest", "radius"}));
+    v("world_normal_distance", world_normal_distance, one_of({"on", "off"}));
+    v("acceleration_unit", acceleration_unit, positive());
     v("normalizer_warmup", normalizer_warmup, int_at_least(0));
     v("normalizer_epsilon", normalizer_epsilon, positive());
     v("train_k_range", train_k_range);
