@@ -129,11 +129,11 @@ TriMesh garment_template_surface(const std::string& name, const Body& body,
 }
 
 Garment make_garment(const std::string& name, const TriMesh& surface, const Body& body,
-                     int target_triangles) {
+                     int target_triangles, const SkinWeightOptions& skin) {
   Garment g;
   g.name = name;
   g.mesh = remesh_to_triangle_count(surface, target_triangles);
-  g.weights = transfer_skin_weights(g.mesh.V, body);
+  g.weights = garment_skin_weights(g.mesh, body, skin);
   return g;
 }
 

@@ -6,6 +6,7 @@
 #include "pb4u/body/procedural_motion.h"
 #include "pb4u/data/dataset.h"
 #include "pb4u/data/lbs_frame.h"
+#include "pb4u/garment/garment_template.h"
 #include "pb4u/garment/import_garment.h"
 #include "pb4u/garment/skin_weight_transfer.h"
 #include "pb4u/io/mesh_io.h"
@@ -119,7 +120,7 @@ SceneSetup build_scene(const SceneConfig& scene, const std::string& where) {
       fail_file(path, "the garment is not manifold (" + std::to_string(manifold.nonmanifold_edges) +
                           " edges with more than two faces, " + std::to_string(manifold.nonmanifold_vertices) +
                           " non-manifold vertices); repair it first");
-    if (has_body) garment.weights = transfer_skin_weights(garment.mesh.V, record->body);
+    if (has_body) garment.weights = garment_skin_weights(garment.mesh, record->body, GarmentTemplateConfig{}.skin_weight_options());
   } else {
     garment.name = "square";
     garment.mesh = square_cloth(g.size, g.resolution, g.height);

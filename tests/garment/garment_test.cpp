@@ -7,12 +7,17 @@
 
 #include "mesh_distance.h"
 #include "pb4u/body/humanoid.h"
+#include "pb4u/body/procedural_motion.h"
+#include "pb4u/data/lbs_frame.h"
 #include "pb4u/garment/clip_mesh.h"
 #include "pb4u/garment/garment_template.h"
 #include "pb4u/garment/import_garment.h"
 #include "pb4u/garment/skin_weight_transfer.h"
 #include "pb4u/mesh/geometry.h"
 #include "pb4u/mesh/topology.h"
+#include "pb4u/physics/cloth_geometry.h"
+#include "pb4u/physics/stretch_energy.h"
+#include "pb4u/util/eigen_tensor.h"
 #include "pb4u/util/error.h"
 #include "test_util.h"
 
@@ -135,4 +140,60 @@ TEST(SkinWeightTransfer, CopiesTheNearestBodyVertex) {
   V.col(0).array() += 1e-4;
   const Eigen::MatrixXd W = transfer_skin_weights(V, body);
   EXPECT_LT((W - body.weights.topRows(20)).cwiseAbs().maxCoeff(), 1e-12);
+}
+
+TEST(SkinWeightTransfer, SmoothingKeepsRowsNormalisedAndSpreadsAStep) {
+  // A strip whose left half follows joint 0 and right half joint 1: diffused, the switch
+  // spreads over about the smoothing length and every row still sums to 1.
+  const TriMesh grid = test::grid_mesh(40, 1.0);  // xz plane, [0, 1]^2, edge 0.025 m
+  Eigen::MatrixXd W = Eigen::MatrixXd::Zero(grid.V.rows(), 2);
+  for (Eigen::Index i = 0; i < W.rows(); ++i) W(i, grid.V(i, 0) < 0.5 ? 0 : 1) = 1;
+  const Eigen::MatrixXd S = smooth_skin_weights(grid, W, 0.1);
+  EXPECT_LT((S.rowwise().sum().array() - 1).abs().maxCoeff(), 1e-12);
+  double at_switch = 0, far_left = 0;
+  for (Eigen::Index i = 0; i < S.rows(); ++i) {
+    if (std::abs(grid.V(i, 0) - 0.5) < 0.02) at_switch = std::max(at_switch, std::abs(S(i, 0) - 0.5));
+    if (grid.V(i, 0) < 0.1) far_left = std::max(far_left, 1 - S(i, 0));
+  }
+  EXPECT_LT(at_switch, 0.25) << "the switch is blended";
+  EXPECT_LT(far_left, 0.02) << "0.4 m from the switch the weights are still the nearest bone's";
+  EXPECT_EQ((smooth_skin_weights(grid, W, 0.0) - W).cwiseAbs().maxCoeff(), 0.0);
+}
+
+// LBS frames of a walk: with inpainted, smoothed weights a skirt stretches no more than 3x a
+// t-shirt (nearest-vertex weights tear it between the legs: ~1400 J). The long dress, which
+// hugs the thighs, still stretches ~50x a t-shirt (4.3 J; raw weights 6200 J): bounded here at
+// 1/100 of its raw-weight stretch, the 3x is not met yet (docs/training.md).
+TEST(SkinWeightTransfer, SmoothWeightsGiveSkirtsAndDressesAPlausibleLbsFrame) {
+  const Fixture& f = fixture();
+  MotionParams walk;
+  walk.frames = 40;
+  const Motion motion = procedural_motion(f.body.skeleton, f.body.bind, walk);
+  auto max_stretch = [&](const std::string& name, const SkinWeightOptions& skin) {
+    const Garment g = make_garment(name, f.surfaces.at(name), f.body, kLevels[0], skin);
+    const ClothGeometry cloth = make_cloth_geometry(g.mesh);
+    double worst = 0;
+    for (int t = 5; t < motion.num_frames(); t += 5) {
+      const LbsFrame frame = lbs_frame(f.body, g, motion, t, 0.004);
+      worst = std::max(worst, stretch_energy(matrix_to_tensor(frame.garment), cloth, Material{}).item<double>());
+    }
+    return worst;
+  };
+  if (std::getenv("PB4U_SKIN_SWEEP")) {
+    for (double inpaint : {0.0, 0.02, 0.03, 0.05})
+      for (double smooth : {0.0, 0.05, 0.1})
+        std::printf("[sweep inpaint %.2f smooth %.2f] tshirt %.3g long_sleeve %.3g tank_top %.3g skirt %.3g dress %.3g\n",
+                    inpaint, smooth, max_stretch("tshirt", {smooth, inpaint}), max_stretch("long_sleeve", {smooth, inpaint}),
+                    max_stretch("tank_top", {smooth, inpaint}), max_stretch("skirt", {smooth, inpaint}),
+                    max_stretch("long_dress", {smooth, inpaint}));
+  }
+  const SkinWeightOptions skin;  // the defaults generate uses
+  const double tshirt = max_stretch("tshirt", skin);
+  const double skirt = max_stretch("skirt", skin), dress = max_stretch("long_dress", skin);
+  const double raw_skirt = max_stretch("skirt", {0.0, 0.0}), raw_dress = max_stretch("long_dress", {0.0, 0.0});
+  std::printf("[lbs stretch] tshirt %.3g J, skirt %.3g J (raw weights %.3g J), long_dress %.3g J (raw %.3g J)\n",
+              tshirt, skirt, raw_skirt, dress, raw_dress);
+  EXPECT_LE(skirt, 3 * tshirt);
+  EXPECT_LE(dress, 0.01 * raw_dress);
+  EXPECT_GT(raw_skirt, 10 * skirt) << "the test can tell raw weights from smooth ones";
 }

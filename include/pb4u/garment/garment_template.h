@@ -11,6 +11,7 @@
 
 #include "pb4u/body/body.h"
 #include "pb4u/body/mannequin.h"
+#include "pb4u/garment/skin_weight_transfer.h"
 #include "pb4u/config/config_io.h"
 #include "pb4u/garment/garment.h"
 
@@ -36,6 +37,13 @@ struct GarmentTemplateConfig {
   // At the waistband, fractions of stature; inside the waist so the band hugs the body.
   double cone_half_width = 0.07, cone_half_depth = 0.045;
   double cone_blend = 0.05;  // m: fillet between cone and body (a crease would need fine levels)
+  // Skinning weights (garment_skin_weights), templates and garment files alike: nearest body
+  // vertex within skin_inpaint_distance m of the body, inpainted farther out, smoothed over
+  // skin_smoothing m. Both 0: raw nearest-vertex weights.
+  double skin_smoothing = 0.1;
+  double skin_inpaint_distance = 0.03;
+
+  SkinWeightOptions skin_weight_options() const { return {skin_smoothing, skin_inpaint_distance}; }
 
   template <class V>
   void visit(V& v) {
@@ -57,6 +65,8 @@ struct GarmentTemplateConfig {
     v("cone_half_width", cone_half_width, in_range(0.01, 0.5));
     v("cone_half_depth", cone_half_depth, in_range(0.01, 0.5));
     v("cone_blend", cone_blend, in_range(0.0, 0.3));
+    v("skin_smoothing", skin_smoothing, in_range(0.0, 1.0));
+    v("skin_inpaint_distance", skin_inpaint_distance, in_range(0.0, 1.0));
   }
 };
 
@@ -67,8 +77,10 @@ TriMesh garment_template_surface(const std::string& name, const Body& body,
                                  const MannequinConfig& mannequin,
                                  const GarmentTemplateConfig& config = {});
 
-// A template remeshed to about `target_triangles`, with weights transferred from `body`.
+// A template remeshed to about `target_triangles`, with weights from `body`
+// (garment_skin_weights with `skin_smoothing` m).
 Garment make_garment(const std::string& name, const TriMesh& surface, const Body& body,
-                     int target_triangles);
+                     int target_triangles,
+                     const SkinWeightOptions& skin = GarmentTemplateConfig{}.skin_weight_options());
 
 }  // namespace pb4u
