@@ -239,7 +239,7 @@ void write_dataset(const std::string& path, const Dataset& data) {
         }
       }
       H5::Group motions = file.createGroup("/motions");
-      std::vector<std::string> train, test;
+      std::vector<std::string> train, test, heldout;
       for (const MotionRecord& m : data.motions) {
         H5::Group g = motions.createGroup(m.name);
         write_attr(g, "body", m.body);
@@ -258,11 +258,12 @@ void write_dataset(const std::string& path, const Dataset& data) {
         RowMatrixXd R = rot;
         write_array(g, "rotations", R.data(), H5::PredType::NATIVE_DOUBLE,
                     {hsize_t(T), hsize_t(J), 4});
-        (m.split == "test" ? test : train).push_back(m.name);
+        (m.split == "test" ? test : m.split == "heldout" ? heldout : train).push_back(m.name);
       }
       H5::Group split = file.createGroup("/split");
       write_strings(split, "train", train);
       write_strings(split, "test", test);
+      if (!heldout.empty()) write_strings(split, "heldout", heldout);
     }
     commit_file(tmp, path);
   } catch (const H5::Exception& e) {
@@ -400,13 +401,14 @@ void print_dataset_summary(std::ostream& out, const Dataset& d) {
       out << "\n";
     }
   }
-  int train = 0, test = 0, frames = 0;
+  int train = 0, test = 0, heldout = 0, frames = 0;
   for (const MotionRecord& m : d.motions) {
-    (m.split == "test" ? test : train)++;
+    (m.split == "test" ? test : m.split == "heldout" ? heldout : train)++;
     frames += m.motion.num_frames();
   }
-  out << "motions: " << d.motions.size() << " (" << train << " train, " << test << " test), "
-      << frames << " frames\n";
+  out << "motions: " << d.motions.size() << " (" << train << " train, " << test << " test";
+  if (heldout > 0) out << ", " << heldout << " held out";
+  out << "), " << frames << " frames\n";
   for (const MotionRecord& m : d.motions)
     out << "  " << m.name << ": " << m.motion.num_frames() << " frames at " << m.motion.fps
         << " fps, body " << m.body << ", " << m.split << ", " << m.source << "\n";

@@ -57,7 +57,8 @@ void validate_generate_config(const GenerateConfig& c, const std::string& where)
     throw Error(where + ": procedural.body: no body named '" + c.procedural.body + "'");
   if (!c.bvh.files.empty() && !names.count(c.bvh.body))
     throw Error(where + ": bvh.body: no body named '" + c.bvh.body + "'");
-  for (const auto* range : {&c.procedural.ranges.speed, &c.procedural.ranges.amplitude})
+  for (const auto* range : {&c.procedural.ranges.speed, &c.procedural.ranges.amplitude,
+                            &c.procedural.heldout_ranges.speed, &c.procedural.heldout_ranges.amplitude})
     if (range->size() != 2 || !((*range)[0] > 0 && (*range)[0] <= (*range)[1]))
       throw Error(where + ": procedural.ranges: speed and amplitude must be [min, max] with 0 < min <= max");
 }
@@ -68,8 +69,9 @@ Dataset generate_dataset(const GenerateConfig& c, const std::string& base_dir, i
   data.level_triangles = c.levels.triangles;
   data.density = c.density;
   const int L = static_cast<int>(c.levels.triangles.size());
-  int64_t items = static_cast<int64_t>(c.procedural.kinds.size()) * c.procedural.per_kind +
-                  static_cast<int64_t>(c.bvh.files.size());
+  int64_t items = static_cast<int64_t>(c.procedural.kinds.size()) *
+                      (c.procedural.per_kind + c.procedural.heldout_per_kind) +
+                  static_cast<int64_t>(c.bvh.files.size() + c.bvh.heldout_files.size());
   for (const BodySpec& spec : c.bodies)
     items += 1 + static_cast<int64_t>((spec.mesh.empty() ? c.templates.size() : 0) + c.garment_files.size()) * L;
   Progress progress("generate", items, "items");
@@ -118,15 +120,17 @@ Dataset generate_dataset(const GenerateConfig& c, const std::string& base_dir, i
       } else {
         file = resolve(c.garment_files[job - templates], base_dir);
         gl.name = fs::path(file).stem().string();
+        // A file named like a template (tshirt.obj) must not be confused with it.
+        if (contains(c.templates, gl.name)) gl.name += "_file";
       }
       for (int k = 0; k < L; ++k) {
         Garment g;
         if (is_template) {
-          g = make_garment(gl.name, surface, rec.body, c.levels.triangles[k]);
+          g = make_garment(gl.name, surface, rec.body, c.levels.triangles[k], c.garments.skin_weight_options());
         } else {
           g.name = gl.name;
           g.mesh = import_garment(file, c.levels.triangles[k]);
-          g.weights = transfer_skin_weights(g.mesh.V, rec.body);
+          g.weights = garment_skin_weights(g.mesh, rec.body, c.garments.skin_weight_options());
         }
         gl.levels.push_back(std::move(g));
         std::lock_guard<std::mutex> lock(progress_mutex);
@@ -168,25 +172,50 @@ Dataset generate_dataset(const GenerateConfig& c, const std::string& base_dir, i
         progress.step(1, "motion " + kind);
       }
   }
-  for (const std::string& file : c.bvh.files) {
+  auto add_bvh = [&](const std::string& file, bool heldout) {
     const std::string path = resolve(file, base_dir);
     BvhFile bvh = read_bvh(path, c.fps, c.bvh.scale);
     const BodyRecord* body = data.find_body(c.bvh.body);
     if (bvh.skeleton.names != body->body.skeleton.names)
       fail_file(path, "its joints differ from body '" + c.bvh.body + "' (build that body from this file's skeleton)");
-    if (c.bvh.max_frames > 0 && bvh.motion.num_frames() > c.bvh.max_frames)
+    // Held-out files are kept whole: they are the long (10 s) stability rollouts.
+    if (!heldout && c.bvh.max_frames > 0 && bvh.motion.num_frames() > c.bvh.max_frames)
       bvh.motion.frames.resize(c.bvh.max_frames);
     MotionRecord m;
     m.name = fs::path(file).stem().string();
     m.body = c.bvh.body;
     m.source = file;
     m.motion = std::move(bvh.motion);
+    if (heldout) m.split = "heldout";
     progress.step(1, "motion " + m.name);
     data.motions.push_back(std::move(m));
+  };
+  for (const std::string& file : c.bvh.files) add_bvh(file, false);
+  for (const std::string& file : c.bvh.heldout_files) add_bvh(file, true);
+  // Held-out procedural motions: parameters outside the training ranges, their own RNG so
+  // that adding them leaves every other motion and the split unchanged.
+  if (c.procedural.heldout_per_kind > 0) {
+    std::mt19937 heldout_rng(static_cast<unsigned>(c.seed) + 7919u);
+    const BodyRecord* body = data.find_body(c.procedural.body);
+    for (const std::string& kind : c.procedural.kinds)
+      for (int i = 0; i < c.procedural.heldout_per_kind; ++i) {
+        MotionParams p = random_motion_params(kind, c.procedural.heldout_frames, c.procedural.heldout_ranges,
+                                              heldout_rng);
+        p.fps = c.fps;
+        MotionRecord m;
+        m.name = kind + "_heldout_" + std::to_string(i + 1);
+        m.body = body->body.name;
+        m.source = "procedural:" + kind;
+        m.split = "heldout";
+        m.motion = procedural_motion(body->body.skeleton, body->body.bind, p);
+        progress.step(1, "motion " + m.name);
+        data.motions.push_back(std::move(m));
+      }
   }
-  // Split: a seeded shuffle, the first test_fraction of motions held out for testing.
-  std::vector<size_t> order(data.motions.size());
-  for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+  // Split: a seeded shuffle of the other motions, the first test_fraction of them for testing.
+  std::vector<size_t> order;
+  for (size_t i = 0; i < data.motions.size(); ++i)
+    if (data.motions[i].split != "heldout") order.push_back(i);
   std::shuffle(order.begin(), order.end(), rng);
   size_t tests = static_cast<size_t>(std::round(c.test_fraction * order.size()));
   if (c.test_fraction > 0 && tests == 0) tests = 1;

@@ -31,6 +31,17 @@ int push_out_of_body(Eigen::MatrixXd& X, const Eigen::MatrixXd& body_V,
   return moved;
 }
 
+Eigen::MatrixXd lbs_garment(const Body& body, const Garment& garment, const Motion& motion, int t,
+                            const Eigen::MatrixXd& posed_body, double gap) {
+  const int T = motion.num_frames();
+  if (T == 0) throw Error("lbs_frame: empty motion");
+  Eigen::MatrixXd X = linear_blend_skinning(
+      garment.mesh.V, garment.weights,
+      skinning_transforms(body.skeleton, body.bind, motion.frames[std::clamp(t, 0, T - 1)]));
+  push_out_of_body(X, posed_body, body.mesh.F, gap);
+  return X;
+}
+
 LbsFrame lbs_frame(const Body& body, const Garment& garment, const Motion& motion, int t,
                    double gap) {
   const int T = motion.num_frames();
@@ -45,15 +56,8 @@ LbsFrame lbs_frame(const Body& body, const Garment& garment, const Motion& motio
   out.body_prev = body_at(t - 1);
   out.body = body_at(t);
   out.body_next = body_at(t + 1);
-  auto garment_at = [&](int k, const Eigen::MatrixXd& posed_body) {
-    Eigen::MatrixXd X = linear_blend_skinning(
-        garment.mesh.V, garment.weights,
-        skinning_transforms(body.skeleton, body.bind, motion.frames[frame(k)]));
-    push_out_of_body(X, posed_body, body.mesh.F, gap);
-    return X;
-  };
-  out.garment_prev = garment_at(t - 1, out.body_prev);
-  out.garment = garment_at(t, out.body);
+  out.garment_prev = lbs_garment(body, garment, motion, t - 1, out.body_prev, gap);
+  out.garment = lbs_garment(body, garment, motion, t, out.body, gap);
   return out;
 }
 

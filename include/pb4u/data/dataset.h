@@ -25,7 +25,7 @@ struct MotionRecord {
   std::string name;
   std::string body;    // the BodyRecord whose skeleton it drives
   std::string source;  // "procedural:<kind>" or the BVH path
-  std::string split;   // "train" or "test"
+  std::string split;   // "train", "test" or "heldout" (never trained on, outside the training ranges)
   Motion motion;
 };
 

@@ -35,6 +35,11 @@ struct ProceduralMotionSpec {
   int per_kind = 2;
   int frames = 90;
   MotionRanges ranges;
+  // Held-out motions (split "heldout"): heldout_per_kind of each kind with parameters drawn
+  // from heldout_ranges (set them outside `ranges`), heldout_frames long.
+  int heldout_per_kind = 0;
+  int heldout_frames = 300;
+  MotionRanges heldout_ranges{{1.5, 1.8}, {1.35, 1.5}};
 
   template <class V>
   void visit(V& v) {
@@ -43,12 +48,16 @@ struct ProceduralMotionSpec {
     v("per_kind", per_kind, int_at_least(0));
     v("frames", frames, int_at_least(2));
     v("ranges", ranges);
+    v("heldout_per_kind", heldout_per_kind, int_at_least(0));
+    v("heldout_frames", heldout_frames, int_at_least(2));
+    v("heldout_ranges", heldout_ranges);
   }
 };
 
 struct BvhMotionSpec {
   std::string body = "cmu131";
   std::vector<std::string> files;
+  std::vector<std::string> heldout_files;  // split "heldout": never trained on
   int max_frames = 0;  // 0 = whole file
   double scale = 1.0;  // file units to metres
 
@@ -56,6 +65,7 @@ struct BvhMotionSpec {
   void visit(V& v) {
     v("body", body);
     v("files", files);
+    v("heldout_files", heldout_files);
     v("max_frames", max_frames, int_at_least(0));
     v("scale", scale, positive());
   }

@@ -25,4 +25,9 @@ int push_out_of_body(Eigen::MatrixXd& X, const Eigen::MatrixXd& body_V,
 LbsFrame lbs_frame(const Body& body, const Garment& garment, const Motion& motion, int t,
                    double gap);
 
+// The garment alone at frame t (clamped), skinned and pushed out of `posed_body` (the body
+// at that frame).
+Eigen::MatrixXd lbs_garment(const Body& body, const Garment& garment, const Motion& motion, int t,
+                            const Eigen::MatrixXd& posed_body, double gap);
+
 }  // namespace pb4u
