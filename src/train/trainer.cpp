@@ -206,44 +206,88 @@ void Trainer::start_group(bool resume) {
   write_run_dir();
 }
 
-Trainer::SampleResult Trainer::train_sample(std::mt19937_64& rng, int rollout, double collision_weight) {
-  SampleResult result;
-  // The sample: garment, motion of its body, start frame, material, effects, K.
-  const int gi = std::uniform_int_distribution<int>(0, int(data_.garments.size()) - 1)(rng);
-  const int bi = data_.garment_body[gi];
+Trajectory Trainer::fresh_trajectory(std::mt19937_64& rng, int rollout) {
+  // Garment, motion of its body, start frame, material, effects (and pins).
+  Trajectory tr;
+  tr.garment = std::uniform_int_distribution<int>(0, int(data_.garments.size()) - 1)(rng);
+  const int bi = data_.garment_body[tr.garment];
   std::vector<int> motions;
   for (int m = 0; m < int(data_.motions.size()); ++m)
     if (data_.motion_body[m] == bi) motions.push_back(m);
   if (motions.empty()) throw Error(config_.data.dataset + ": no training motion for body " + data_.bodies[bi].name);
-  const Motion& motion = data_.motions[motions[std::uniform_int_distribution<size_t>(0, motions.size() - 1)(rng)]];
+  tr.motion = motions[std::uniform_int_distribution<size_t>(0, motions.size() - 1)(rng)];
+  const Motion& motion = data_.motions[tr.motion];
   const int r = std::min(rollout, std::max(1, motion.num_frames() - 2));
-  const int t = std::uniform_int_distribution<int>(1, std::max(1, motion.num_frames() - 1 - r))(rng);
-  Material material = sample_material(config_.materials, Material{}, rng);
-  Effects effects = sample_effects(config_.effects, rng);
+  tr.frame = std::uniform_int_distribution<int>(1, std::max(1, motion.num_frames() - 1 - r))(rng);
+  tr.material = sample_material(config_.materials, Material{}, rng);
+  tr.effects = sample_effects(config_.effects, rng);
+
+  const Garment& garment = data_.garments[tr.garment];
+  LbsFrame frame = lbs_frame(data_.bodies[bi], garment, motion, tr.frame, config_.data.push_out_gap);
+  tr.x = matrix_to_tensor(frame.garment, torch::kFloat32, device_);
+  tr.x_prev = matrix_to_tensor(frame.garment_prev, torch::kFloat32, device_);
+  if (tr.effects.pins) {
+    tr.pinned = torch::zeros({tr.x.size(0)}, torch::TensorOptions().dtype(torch::kBool));
+    for (int i : sample_pinned_vertices(garment.mesh.V, rng)) tr.pinned[i] = true;
+    tr.pinned = tr.pinned.to(device_);
+    tr.pin_anchor = tr.x.clone();
+  }
+  return tr;
+}
+
+Trainer::SampleResult Trainer::train_sample(std::mt19937_64& rng, int slot, int rollout, double collision_weight) {
+  SampleResult result;
+  // Continue one of this slot's replay chains, or start fresh (and put it in that chain).
+  const ReplayConfig& replay = config_.replay;
+  int chain = -1;
+  Trajectory tr;
+  if (replay.chains > 0) {
+    if (chains_.size() <= size_t(slot)) chains_.resize(slot + 1);
+    chains_[slot].resize(replay.chains);
+    chain = std::uniform_int_distribution<int>(0, replay.chains - 1)(rng);
+    const bool fresh = std::uniform_real_distribution<double>(0, 1)(rng) < replay.p_fresh;
+    if (!fresh && chains_[slot][chain].active()) tr = chains_[slot][chain];
+  }
+  if (!tr.active()) tr = fresh_trajectory(rng, rollout);
   result.K = sample_propagation_steps(config_.model, rng);
+  result.age = tr.age;
+
+  const int gi = tr.garment;
+  const Body& body = data_.bodies[data_.garment_body[gi]];
+  const Garment& garment = data_.garments[gi];
+  const Motion& motion = data_.motions[tr.motion];
+  const int r = std::max(1, std::min(rollout, motion.num_frames() - 1 - tr.frame));
   result.rollout = r;
 
-  const Body& body = data_.bodies[bi];
-  const Garment& garment = data_.garments[gi];
-  LbsFrame frame = lbs_frame(body, garment, motion, t, config_.data.push_out_gap);
   FrameState state;
-  state.x = matrix_to_tensor(frame.garment, torch::kFloat32, device_);
-  state.x_prev = matrix_to_tensor(frame.garment_prev, torch::kFloat32, device_);
-  state.effects = effects;
-  state.material = material;
+  state.x = tr.x;
+  state.x_prev = tr.x_prev;
+  state.effects = tr.effects;
+  state.material = tr.material;
+  state.pinned = tr.pinned;
   const torch::Tensor body_faces = index_matrix_to_tensor(body.mesh.F, device_);
-  Eigen::MatrixXd body_now = frame.body, body_next = frame.body_next;
+  auto pose = [&](int k) { return pose_body(body, motion.frames[std::clamp(k, 0, motion.num_frames() - 1)]); };
+  Eigen::MatrixXd body_now = pose(tr.frame), body_next = pose(tr.frame + 1);
 
-  TermList terms = build_terms(effects, config_.physics, collision_weight);
+  TermList terms = build_terms(tr.effects, config_.physics, collision_weight);
   torch::Tensor loss_sum = torch::zeros({}, torch::TensorOptions().device(device_));
   std::vector<double> term_sums(terms.size(), 0.0);
+  double positive_energy = 0;  // of the last step: does the chain stay plausible?
   for (int i = 0; i < r; ++i) {
-    if (effects.needs_body()) {
+    if (tr.effects.needs_body()) {
       state.body.vertices = matrix_to_tensor(body_now, torch::kFloat32, device_);
       state.body.next_vertices = matrix_to_tensor(body_next, torch::kFloat32, device_);
       state.body.faces = body_faces;
     } else {
       state.body = BodyFrame{};
+    }
+    if (tr.effects.pins) {
+      // With a body the pins ride on the skinned garment; without one they stay put.
+      state.pin_targets = tr.effects.needs_body()
+                              ? matrix_to_tensor(lbs_garment(body, garment, motion, tr.frame + i + 1, body_next,
+                                                             config_.data.push_out_gap),
+                                                 torch::kFloat32, device_)
+                              : tr.pin_anchor;
     }
     GraphBatch graph = build_graph(state, topology_[gi], config_.model.graph_options());
     torch::Tensor accel = model_->forward(graph, result.K);
@@ -251,9 +295,13 @@ Trainer::SampleResult Trainer::train_sample(std::mt19937_64& rng, int rollout, d
     std::optional<BodyContact> contact = body_contact_for(state, config_.physics);
     auto energies = term_energies(terms, x_next, state, cloth_[gi], contact ? &*contact : nullptr);
     torch::Tensor step_loss = torch::zeros({}, x_next.options());
+    positive_energy = 0;
     for (size_t k = 0; k < energies.size(); ++k) {
       step_loss = step_loss + energies[k].second;
-      term_sums[k] += energies[k].second.item<double>();
+      const double v = energies[k].second.item<double>();
+      term_sums[k] += v;
+      if (energies[k].first == "stretch" || energies[k].first == "bending" || energies[k].first == "collision")
+        positive_energy += v;
     }
     loss_sum = loss_sum + step_loss.detach();
     step_loss.backward();  // gradients accumulate; the next step starts from a detached state
@@ -261,11 +309,21 @@ Trainer::SampleResult Trainer::train_sample(std::mt19937_64& rng, int rollout, d
     state.x = x_next.detach();
     if (i + 1 < r) {
       body_now = body_next;
-      body_next = pose_body(body, motion.frames[std::min(t + i + 2, motion.num_frames() - 1)]);
+      body_next = pose(tr.frame + i + 2);
     }
   }
   result.loss = loss_sum.item<double>() / r;
   for (size_t k = 0; k < terms.size(); ++k) result.terms.emplace_back(terms[k]->name(), term_sums[k] / r);
+  if (chain >= 0) {
+    tr.x = state.x;
+    tr.x_prev = state.x_prev;
+    tr.frame += r;
+    tr.age += r;
+    const bool room = tr.frame + 1 < motion.num_frames() - 1;
+    const bool plausible = std::isfinite(positive_energy) && positive_energy < replay.restart_energy &&
+                           std::isfinite(result.loss);
+    chains_[slot][chain] = room && plausible ? tr : Trajectory{};
+  }
   return result;
 }
 
@@ -303,10 +361,11 @@ StepResult Trainer::train_step() {
     std::mt19937_64 rng = sample_rng(config_.run.seed, step_, int64_t(rank) * batch + j);
     if (warmup) set_normaliser_statistics(*model_, stats_start);
     for (auto& p : params) p.mutable_grad() = torch::Tensor();
-    SampleResult s = train_sample(rng, rollout, result.collision_weight);
+    SampleResult s = train_sample(rng, j, rollout, result.collision_weight);
     if (j == 0) {
       result.rollout = s.rollout;
       result.K = s.K;
+      result.age = s.age;
     }
     int64_t offset = 0;
     for (int64_t i = 0; i < n_params; ++i) {
@@ -383,7 +442,7 @@ void Trainer::run(int64_t stop_at) {
     StepResult s = train_step();
     std::vector<std::pair<std::string, double>> row{
         {"loss", s.loss}, {"lr", s.lr}, {"seconds", elapsed_seconds_}, {"step_seconds", s.seconds},
-        {"rollout", double(s.rollout)}, {"K", double(s.K)},
+        {"rollout", double(s.rollout)}, {"K", double(s.K)}, {"age", double(s.age)},
         {"collision_weight", s.collision_weight}, {"skipped_steps", double(skipped_steps_)},
         {"samples", double(s.samples)}};
     row.insert(row.end(), s.terms.begin(), s.terms.end());

@@ -3,6 +3,8 @@
 
 #include <cmath>
 
+#include <Eigen/Core>
+
 #include "pb4u/train/sampling.h"
 
 namespace pb4u {
@@ -49,10 +51,44 @@ TEST(Sampling, EffectsFollowProbabilitiesAndFrictionNeedsABody) {
     gravity += e.gravity;
     body += e.collision;
     EXPECT_EQ(e.friction, e.collision);
-    EXPECT_FALSE(e.pins);
+    EXPECT_FALSE(e.pins) << "p_pins defaults to 0";
   }
   EXPECT_NEAR(gravity / double(n), 0.25, 0.03);
   EXPECT_NEAR(body / double(n), 0.5, 0.03);
+}
+
+TEST(Sampling, PinsAreSampledWithTheirProbability) {
+  EffectSampling s;
+  s.p_pins = 0.3;
+  std::mt19937_64 rng(3);
+  int pins = 0;
+  const int n = 4000;
+  for (int i = 0; i < n; ++i) pins += sample_effects(s, rng).pins;
+  EXPECT_NEAR(pins / double(n), 0.3, 0.03);
+}
+
+TEST(Sampling, PinnedVerticesAreABandOrPointsAtTheTop) {
+  // A 21 x 21 vertex sheet hanging in the xy plane, 1 m tall, rows 5 cm apart.
+  Eigen::MatrixXd V(21 * 21, 3);
+  for (int r = 0; r < 21; ++r)
+    for (int c = 0; c < 21; ++c) V.row(r * 21 + c) << 0.05 * c, 1.0 - 0.05 * r, 0.0;
+  std::mt19937_64 rng(4);
+  int bands = 0, point_sets = 0;
+  for (int i = 0; i < 200; ++i) {
+    const std::vector<int> p = sample_pinned_vertices(V, rng);
+    ASSERT_FALSE(p.empty());
+    for (int v : p) ASSERT_GE(V(v, 1), 0.9 - 1e-12) << "within the top 10%";
+    if (int(p.size()) == 21) {
+      ++bands;  // a 1-4 cm band holds exactly the top row here
+      for (int v : p) EXPECT_DOUBLE_EQ(V(v, 1), 1.0);
+    } else {
+      ++point_sets;
+      EXPECT_GE(p.size(), 2u);
+      EXPECT_LE(p.size(), 4u);
+    }
+  }
+  EXPECT_GT(bands, 60);
+  EXPECT_GT(point_sets, 60);
 }
 
 }  // namespace

@@ -80,6 +80,36 @@ TEST(Trainer, TrainingLowersTheEnergyOfTheSameSamples) {
   EXPECT_LT(sum_trained, sum_frozen);
 }
 
+// Replay: with one chain and no fresh starts, each step continues the state the model itself
+// reached the step before (age 0, 1, 2, ...) until the motion ends (12 frames in tiny); pinned
+// samples (p_pins = 1) train like the others.
+TEST(Trainer, ReplayChainsCarryTheModelsOwnStatesOn) {
+  configure_threads(1);
+  TrainConfig c = tiny_config(test::temp_dir("train_replay"),
+                              {"replay.chains=1", "replay.p_fresh=0", "replay.restart_energy=1e12",
+                               "curriculum.rollout_max=1", "effects.p_pins=1"});
+  Trainer trainer = make_trainer(c);
+  int previous = -1, continued = 0, restarts = 0;
+  for (int i = 0; i < 14; ++i) {
+    StepResult s = trainer.train_step();
+    ASSERT_TRUE(std::isfinite(s.loss)) << "step " << s.step;
+    if (i == 0) EXPECT_EQ(s.age, 0);
+    if (s.age > 0) {
+      EXPECT_EQ(s.age, previous + 1) << "step " << s.step;
+      ++continued;
+    } else {
+      ++restarts;
+    }
+    previous = s.age;
+  }
+  EXPECT_GE(continued, 5);
+  EXPECT_GE(restarts, 2) << "a chain restarts at its motion's end";
+  // Without replay every sample starts fresh.
+  TrainConfig plain = tiny_config(test::temp_dir("train_no_replay"));
+  Trainer fresh = make_trainer(plain);
+  for (int i = 0; i < 3; ++i) EXPECT_EQ(fresh.train_step().age, 0);
+}
+
 TEST(Trainer, StoppedAndResumedRunEqualsUninterrupted) {
   configure_threads(1);
   const std::string a_dir = test::temp_dir("train_a"), b_dir = test::temp_dir("train_b");

@@ -1,6 +1,8 @@
 #pragma once
 // Random choices made per training step: material (SPEC 2 ranges) and effect set (SPEC 6).
+#include <Eigen/Core>
 #include <random>
+#include <vector>
 
 #include "pb4u/config/config_io.h"
 #include "pb4u/physics/material.h"
@@ -17,14 +19,24 @@ struct EffectSampling {
   double p_gravity = 0.8;
   double p_body = 0.8;      // body present -> collision on, friction with p_friction
   double p_friction = 0.5;  // given a body
+  // Pinned cloth: with a body the pins follow the garment's skinned motion (a waistband held
+  // on); without one they hold their start positions (a garment hanging from pins).
+  double p_pins = 0.0;
   template <class V>
   void visit(V& v) {
     v("p_gravity", p_gravity, in_range(0, 1));
     v("p_body", p_body, in_range(0, 1));
     v("p_friction", p_friction, in_range(0, 1));
+    v("p_pins", p_pins, in_range(0, 1));
   }
 };
 
 Effects sample_effects(const EffectSampling& sampling, std::mt19937_64& rng);
+
+// The vertices a pinned training sample holds, chosen on the rest shape V (n x 3, y up): half
+// the time a band along the top (every vertex within 1-4 cm of the highest, as scenes'
+// pins.top_band), otherwise 2-4 single points among the top 10% of the vertices by height.
+// Never empty.
+std::vector<int> sample_pinned_vertices(const Eigen::MatrixXd& V, std::mt19937_64& rng);
 
 }  // namespace pb4u

@@ -75,6 +75,26 @@ struct CurriculumConfig {
   }
 };
 
+// Training on the model's own states (HOOD-style autoregressive training, without
+// backpropagating through time): each sample slot keeps `chains` trajectories that the model
+// itself carries on along their motions. A sample continues one of them (picked at random)
+// unless, with probability p_fresh, or when it has reached the motion's end or left the
+// plausible (positive energy above restart_energy J), a fresh LBS-initialised one replaces it.
+// The states the model reaches after tens to hundreds of its own steps, drift and
+// penetrations included, are thus in the training mix. chains = 0: LBS starts only.
+struct ReplayConfig {
+  int chains = 0;
+  double p_fresh = 0.2;
+  double restart_energy = 20.0;  // J: stretch + bending + collision of the last step
+
+  template <class V>
+  void visit(V& v) {
+    v("chains", chains, int_at_least(0));
+    v("p_fresh", p_fresh, in_range(0, 1));
+    v("restart_energy", restart_energy, positive());
+  }
+};
+
 struct TrainConfig {
   RunConfig run;
   TrainDataConfig data;
@@ -84,6 +104,7 @@ struct TrainConfig {
   EffectSampling effects;
   OptimConfig optim;
   CurriculumConfig curriculum;
+  ReplayConfig replay;
 
   template <class V>
   void visit(V& v) {
@@ -95,6 +116,7 @@ struct TrainConfig {
     v("effects", effects);
     v("optim", optim);
     v("curriculum", curriculum);
+    v("replay", replay);
   }
 };
 

@@ -51,6 +51,23 @@ struct StepResult {
   int64_t K = 0;
   int64_t samples = 1;              // the step's batch over all ranks
   bool skipped = false;             // non-finite loss or gradient on any rank: no update
+  int age = 0;                      // model steps this rank's first sample had behind it (replay)
+};
+
+// A training sample's garment on its motion (replay): which garment, motion and frame, what
+// the cloth is made of, the effects and pins, and the garment's state there (training device,
+// float32). A fresh one starts from the LBS-initialised frame; `age` counts the model's own
+// steps since.
+struct Trajectory {
+  int garment = -1, motion = -1, frame = 0;
+  Material material;
+  Effects effects;
+  torch::Tensor x, x_prev;    // (n, 3) m at `frame` and the frame before
+  torch::Tensor pinned;       // (n) bool, defined when effects.pins
+  torch::Tensor pin_anchor;   // (n, 3) m: where pins hold without a body
+  int age = 0;
+
+  bool active() const { return garment >= 0; }
 };
 
 class Trainer {
@@ -79,9 +96,13 @@ class Trainer {
     std::vector<std::pair<std::string, double>> terms;
     int rollout = 1;
     int64_t K = 0;
+    int age = 0;
   };
-  // One sample's rollout; its gradients accumulate into the parameters' .grad.
-  SampleResult train_sample(std::mt19937_64& rng, int rollout, double collision_weight);
+  // One sample's rollout; its gradients accumulate into the parameters' .grad. `slot`: the
+  // sample's index in this rank's batch, whose replay chains it continues.
+  SampleResult train_sample(std::mt19937_64& rng, int slot, int rollout, double collision_weight);
+  // A fresh LBS-initialised trajectory with room for `rollout` steps.
+  Trajectory fresh_trajectory(std::mt19937_64& rng, int rollout);
   void save(bool final_checkpoint);
   void start_group(bool resume);
   bool is_root() const { return !group_ || group_->is_root(); }
@@ -96,6 +117,8 @@ class Trainer {
   std::vector<ClothGeometry> cloth_;
   std::shared_ptr<DistributedGroup> group_;
   std::vector<std::string> term_names_;  // all terms, in Table-1 order: slots of the reduction
+  // Replay chains per batch slot (config_.replay.chains each); they restart empty on resume.
+  std::vector<std::vector<Trajectory>> chains_;
   int64_t step_ = 0;
   int64_t skipped_steps_ = 0;
   double elapsed_seconds_ = 0;
