@@ -110,7 +110,8 @@ RolloutFigures check_rollout(const std::string& label, const RolloutInput& in, c
   RolloutFigures fig;
   Eigen::MatrixXd prev = in.x0;
   auto t0 = std::chrono::steady_clock::now();
-  RolloutResult r = run_rollout(in, step, physics, [&](int frame, const Eigen::MatrixXd& x, const EnergyReport& rep) {
+  RolloutResult r = run_rollout(in, step, physics, [&](int frame, const Eigen::MatrixXd& x, const EnergyReport& rep,
+                                                      const PenetrationFigures*) {
     ++fig.frames;
     EXPECT_TRUE(x.allFinite()) << label << " frame " << frame;
     EXPECT_TRUE(std::isfinite(rep.total)) << label << " frame " << frame;
