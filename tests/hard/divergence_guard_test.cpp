@@ -10,6 +10,7 @@
 #include <memory>
 
 #include "hard_case.h"
+#include "pb4u/eval/evaluate.h"
 #include "pb4u/mesh/geometry.h"
 #include "pb4u/sim/point_cache.h"
 #include "pb4u/sim/rollout_writer.h"
@@ -130,11 +131,12 @@ TEST(DivergenceGuard, ACalmReferenceRolloutRunsToTheEnd) {
   EXPECT_TRUE(r.diverged_reason.empty());
 }
 
-TEST(DivergenceGuard, RatioIsAConfigKeyOfScenes) {
+TEST(DivergenceGuard, RatioIsAConfigKeyOfScenesAndEvaluation) {
   const SceneConfig scene = load_config<SceneConfig>("", {"divergence.energy_ratio=50", "divergence.energy_floor=0.01"});
   EXPECT_EQ(scene.divergence.energy_ratio, 50);
   EXPECT_EQ(scene.divergence.energy_floor, 0.01);
   EXPECT_EQ(scene_rollout_input(scene, SceneSetup{}).divergence.energy_ratio, 50);
+  EXPECT_EQ(load_config<EvalConfig>("", {"divergence.energy_ratio=0"}).divergence.energy_ratio, 0);
   try {
     load_config<SceneConfig>("", {"divergence.energy_ratio=0.5"});
     ADD_FAILURE() << "a ratio below 1 must be refused";
