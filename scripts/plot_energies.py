@@ -13,6 +13,10 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 
+# Columns of energies.csv that are not energies (J): the frame and, with a body, penetration.
+NOT_ENERGIES = {"frame", "penetrating_fraction", "max_penetration_mm"}
+
+
 def read(path):
     with open(path) as f:
         rows = list(csv.DictReader(f))
@@ -34,7 +38,7 @@ def main():
     t = [f / a.fps for f in cols["frame"]]
     fig, ax = plt.subplots(figsize=(7, 4))
     for name, values in cols.items():
-        if name == "frame":
+        if name in NOT_ENERGIES:
             continue
         positive = [v if v > 0 and math.isfinite(v) else float("nan") for v in values]
         style = dict(lw=2.2, color="k") if name == "stretch" else dict(lw=1.0)

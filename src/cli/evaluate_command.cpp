@@ -13,9 +13,13 @@ namespace pb4u {
 void add_evaluate_command(CLI::App& app, const GlobalOptions& global) {
   auto* cmd = app.add_subcommand(
       "evaluate",
-      "Roll every model out on the dataset's test motions from their LBS-initialised first\n"
-      "frame, at each level, and print the physics terms per frame (Table 1 layout). A rollout\n"
-      "that goes non-finite is reported as diverged at frame N; averages use finite frames.");
+      "Roll every model out on the dataset's motions of the config's split (default: test) from\n"
+      "their LBS-initialised first frame, at each level, and print the physics terms per frame\n"
+      "(Table 1 layout); with a body also the share of garment vertices inside it and the deepest\n"
+      "penetration. Without a body (effects [gravity, pins]) each garment hangs from rest, pinned by\n"
+      "pins.top_band. A rollout that goes non-finite, or whose positive energy exceeds\n"
+      "divergence.energy_ratio x frame 1's, is reported as diverged at frame N; averages use the\n"
+      "frames measured. --format json also lists every sequence.");
   struct Args {
     std::string device = "cpu";
     std::vector<std::string> checkpoints, names, methods, sets;

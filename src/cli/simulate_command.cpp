@@ -49,9 +49,10 @@ void add_simulate_command(CLI::App& app, const GlobalOptions& global) {
     SimulateResult r = simulate(scene, args->scene, model ? &*model : nullptr, args->out);
     spdlog::info("wrote {} frames and {} files to {}", r.frames, r.files.size(), args->out);
     if (r.diverged)
-      throw Error(args->scene + ": diverged at frame " + std::to_string(r.diverged_at_frame) + " (vertex " +
-                  std::to_string(r.worst_vertex) + " non-finite or moved most); the " +
-                  std::to_string(r.frames) + " frames before it are written to " + args->out);
+      throw Error(args->scene + ": diverged at frame " + std::to_string(r.diverged_at_frame) + ": " +
+                  r.diverged_reason + " (vertex " + std::to_string(r.worst_vertex) +
+                  " non-finite or moved most); frames 0-" + std::to_string(r.frames - 1) + " are written to " +
+                  args->out);
   });
 }
 

@@ -231,8 +231,8 @@ BenchRow run_one(const Run& run, const RolloutInput& body_input, const RolloutIn
   const EnergyReport mean = mean_report(r.reports);
   row.physics_loss = mean.total;
   row.terms = mean.terms;
-  for (const char* t : {"stretch", "bending", "collision"})
-    if (mean.has(t)) row.positive_loss += mean.value(t);
+  row.positive_loss = positive_energy(mean);
+  if (!r.penetration.empty()) row.penetration = summarize_penetration(r.penetration);
   return row;
 }
 
@@ -308,10 +308,11 @@ BenchResult run_bench(const BenchConfig& config, const std::function<void(const 
     const auto level_start = Clock::now();
     const Garment& g = garment->levels[level - 1];
     const GarmentTopology topology = build_garment_topology(g.mesh, g.name);
-    const RolloutInput body_input = lbs_rollout_input(record->body, g, motion.motion, config.start_frame, steps,
-                                                      effects, config.material, config.push_out_gap);
-    const RolloutInput free_input = lbs_rollout_input(record->body, g, motion.motion, config.start_frame, steps,
-                                                      free_effects, config.material, config.push_out_gap);
+    RolloutInput body_input = lbs_rollout_input(record->body, g, motion.motion, config.start_frame, steps, effects,
+                                                config.material, config.push_out_gap);
+    RolloutInput free_input = lbs_rollout_input(record->body, g, motion.motion, config.start_frame, steps,
+                                                free_effects, config.material, config.push_out_gap);
+    body_input.divergence = free_input.divergence = config.divergence;
     std::vector<Run> runs;
     for (size_t i = 0; i < models.size(); ++i) runs.push_back({names[i], "network", &models[i]});
     for (int k : config.k_values) runs.push_back({method_name(pb4u->config) + " (fixed K)", "fixed_k", pb4u, k});
@@ -374,7 +375,7 @@ std::string format_bench_details_csv(const BenchResult& result) {
   out << "level,triangles,vertices,method,family,K,iterations,threads,latency_ms_median,latency_ms_min,"
          "physics_loss,positive_loss";
   for (const char* t : kTerms) out << ',' << t;
-  out << ",frames,diverged,diverged_at_frame\n";
+  out << ",frames,diverged,diverged_at_frame,penetrating_fraction,max_penetrating_fraction,max_penetration_mm\n";
   for (const auto& r : result.rows) {
     out << r.level << ',' << r.triangles << ',' << r.vertices << ',' << csv_field(r.method) << ',' << r.family
         << ',' << r.K << ',' << r.iterations << ',' << r.threads << ',' << number(r.latency_ms_median) << ','
@@ -385,7 +386,12 @@ std::string format_bench_details_csv(const BenchResult& result) {
         if (name == t) v = value;
       out << ',' << (std::isnan(v) ? std::string() : number(v));
     }
-    out << ',' << r.frames << ',' << (r.diverged ? "true" : "false") << ',' << r.diverged_at_frame << '\n';
+    out << ',' << r.frames << ',' << (r.diverged ? "true" : "false") << ',' << r.diverged_at_frame;
+    for (double PenetrationSummary::*field : {&PenetrationSummary::penetrating_fraction,
+                                             &PenetrationSummary::max_penetrating_fraction,
+                                             &PenetrationSummary::max_penetration_mm})
+      out << ',' << (r.penetration ? number((*r.penetration).*field) : std::string());
+    out << '\n';
   }
   return out.str();
 }

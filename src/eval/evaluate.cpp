@@ -10,6 +10,7 @@
 
 #include "pb4u/data/dataset.h"
 #include "pb4u/eval/rollout.h"
+#include "pb4u/scene/pins.h"
 #include "pb4u/util/error.h"
 #include "pb4u/util/progress.h"
 
@@ -19,7 +20,7 @@ namespace {
 struct Sequence {
   const Body* body;
   const Garment* garment;
-  const MotionRecord* motion;
+  const MotionRecord* motion;  // null: a body-less rollout from rest
 };
 
 std::string pretty_term(const std::string& name) {
@@ -31,6 +32,12 @@ std::string pretty_term(const std::string& name) {
 std::string sci(double v) {
   char s[32];
   std::snprintf(s, sizeof s, "%.2E", v);
+  return s;
+}
+
+std::string fixed2(double v) {
+  char s[32];
+  std::snprintf(s, sizeof s, "%.2f", v);
   return s;
 }
 
@@ -56,12 +63,53 @@ std::string json_number(double v) {
   return s;
 }
 
-// Value of `term` ("total" included) for a method, if it has finite frames.
-std::optional<double> value_of(const MethodResult& m, const std::string& term) {
-  if (!m.mean) return std::nullopt;
-  if (term == "total") return m.mean->total;
-  if (!m.mean->has(term)) return std::nullopt;
-  return m.mean->value(term);
+// The penetration figures, reported as rows beside the terms: JSON / CSV key, table label,
+// table scale (fractions in percent) and the summary field.
+struct PenetrationKey {
+  const char* key;
+  const char* label;
+  double table_scale;
+  double PenetrationSummary::*field;
+};
+const PenetrationKey kPenetrationKeys[] = {
+    {"penetrating_fraction", "Inside %", 100.0, &PenetrationSummary::penetrating_fraction},
+    {"max_penetrating_fraction", "Inside max %", 100.0, &PenetrationSummary::max_penetrating_fraction},
+    {"max_penetration_mm", "Depth max mm", 1.0, &PenetrationSummary::max_penetration_mm},
+};
+
+const PenetrationKey* penetration_key(const std::string& row) {
+  for (const auto& k : kPenetrationKeys)
+    if (row == k.key) return &k;
+  return nullptr;
+}
+
+// Value of row `row` (a term, "total" or a penetration key) from a mean report and a
+// penetration summary, if there is one.
+std::optional<double> row_value(const std::optional<EnergyReport>& mean,
+                                const std::optional<PenetrationSummary>& penetration, const std::string& row) {
+  if (const PenetrationKey* k = penetration_key(row)) {
+    if (!penetration) return std::nullopt;
+    return (*penetration).*(k->field);
+  }
+  if (!mean) return std::nullopt;
+  if (row == "total") return mean->total;
+  if (!mean->has(row)) return std::nullopt;
+  return mean->value(row);
+}
+
+std::optional<double> value_of(const MethodResult& m, const std::string& row) {
+  return row_value(m.mean, m.penetration, row);
+}
+
+// A level's rows: its terms, the total and, when any method measured penetration, its keys.
+std::vector<std::string> level_rows(const LevelResult& lr) {
+  std::vector<std::string> rows = lr.terms;
+  rows.push_back("total");
+  bool penetration = false;
+  for (const auto& m : lr.methods) penetration = penetration || m.penetration.has_value();
+  if (penetration)
+    for (const auto& k : kPenetrationKeys) rows.push_back(k.key);
+  return rows;
 }
 
 }  // namespace
@@ -84,32 +132,98 @@ std::vector<std::string> method_names(const std::vector<ModelFile>& models,
   return out;
 }
 
+namespace {
+
+// The sequences of one level: each body's motions of the config's split with each of its
+// garments; without a body in the effects, each garment once, from rest.
+std::vector<Sequence> level_sequences(const Dataset& data, const EvalConfig& config, const Effects& effects,
+                                      int level) {
+  std::vector<Sequence> sequences;
+  for (const auto& record : data.bodies) {
+    std::vector<const MotionRecord*> motions;
+    if (effects.needs_body()) {
+      for (const auto& m : data.motions)
+        if (m.body == record.body.name && m.split == config.split && m.motion.num_frames() > config.start_frame + 1)
+          motions.push_back(&m);
+      if (config.max_sequences > 0 && int(motions.size()) > config.max_sequences) motions.resize(config.max_sequences);
+    } else {
+      motions.push_back(nullptr);  // from rest: no motion
+    }
+    for (const auto& g : record.garments) {
+      if (!config.garments.empty() &&
+          std::find(config.garments.begin(), config.garments.end(), g.name) == config.garments.end())
+        continue;
+      for (const MotionRecord* m : motions) sequences.push_back({&record.body, &g.levels.at(level - 1), m});
+    }
+  }
+  if (sequences.empty())
+    throw Error(config.dataset + ": " +
+                (effects.needs_body() ? "no motion of split '" + config.split + "' with a matching garment"
+                                      : std::string("no matching garment")) +
+                " at level " + std::to_string(level));
+  return sequences;
+}
+
+// What one sequence rolls out: its LBS-initialised start on the motion, or without a body the
+// garment still at rest, pinned by the config's rule.
+RolloutInput sequence_input(const EvalConfig& config, const Effects& effects, const Sequence& s) {
+  RolloutInput in;
+  if (s.motion) {
+    const Motion& motion = s.motion->motion;
+    int steps = motion.num_frames() - 1 - config.start_frame;
+    if (config.max_frames > 0) steps = std::min(steps, config.max_frames);
+    in = lbs_rollout_input(*s.body, *s.garment, motion, config.start_frame, steps, effects, config.material,
+                           config.push_out_gap);
+  } else {
+    in.garment_rest = s.garment->mesh;
+    in.x0 = in.x_prev = s.garment->mesh.V;
+    in.effects = effects;
+    in.material = in.metric_material = config.material;
+    in.steps = config.max_frames;
+  }
+  if (effects.pins) in.pinned = top_band_vertices(in.x0, config.pins.top_band);
+  in.divergence = config.divergence;
+  return in;
+}
+
+SequenceResult sequence_result(const Sequence& s, const RolloutResult& r) {
+  SequenceResult q;
+  q.body = s.body->name;
+  q.garment = s.garment->name;
+  q.motion = s.motion ? s.motion->name : "rest";
+  q.frames = int(r.reports.size());
+  q.diverged = r.diverged;
+  q.diverged_at_frame = r.diverged_at_frame;
+  q.diverged_reason = r.diverged_reason;
+  if (r.reports.empty()) {
+    q.positive_energy = q.max_positive_energy = NAN;
+    return q;
+  }
+  q.mean = mean_report(r.reports);
+  q.positive_energy = positive_energy(*q.mean);
+  for (const auto& report : r.reports) q.max_positive_energy = std::max(q.max_positive_energy, positive_energy(report));
+  if (!r.penetration.empty()) q.penetration = summarize_penetration(r.penetration);
+  return q;
+}
+
+}  // namespace
+
 std::vector<LevelResult> evaluate(const EvalConfig& config, const std::vector<EvalMethod>& methods) {
   if (methods.empty()) throw Error("evaluate: no method to evaluate (give --checkpoint or --method reference)");
-  const Dataset data = read_dataset(config.dataset);
   const Effects effects = Effects::from_names(config.effects, "effects");
   if (config.levels.empty()) throw Error("levels: no level to evaluate");
+  if (effects.pins && config.pins.top_band <= 0)
+    throw Error("pins.top_band: effect 'pins' is on but no vertex is pinned (set pins.top_band, m)");
+  if (!effects.needs_body() && config.max_frames <= 0)
+    throw Error("max_frames: without a body (no collision or friction among the effects) each garment starts "
+                "at rest and the rollout length must be set (max_frames > 0)");
+  const Dataset data = read_dataset(config.dataset);
   std::vector<LevelResult> results;
   for (int level : config.levels) {
     if (level < 1 || level > int(data.level_triangles.size()))
       throw Error("levels: level " + std::to_string(level) + " is not in " + config.dataset + " (it has " +
                   std::to_string(data.level_triangles.size()) + " levels)");
-    std::vector<Sequence> sequences;
-    for (const auto& record : data.bodies) {
-      std::vector<const MotionRecord*> test;
-      for (const auto& m : data.motions)
-        if (m.body == record.body.name && m.split == "test" && m.motion.num_frames() > config.start_frame + 1)
-          test.push_back(&m);
-      if (config.max_sequences > 0 && int(test.size()) > config.max_sequences) test.resize(config.max_sequences);
-      for (const auto& g : record.garments) {
-        if (!config.garments.empty() &&
-            std::find(config.garments.begin(), config.garments.end(), g.name) == config.garments.end())
-          continue;
-        for (const MotionRecord* m : test) sequences.push_back({&record.body, &g.levels.at(level - 1), m});
-      }
-    }
-    if (sequences.empty())
-      throw Error(config.dataset + ": no test-split motion with a matching garment at level " + std::to_string(level));
+    const std::vector<Sequence> sequences = level_sequences(data, config, effects, level);
 
     LevelResult lr;
     lr.level = level;
@@ -128,15 +242,11 @@ std::vector<LevelResult> evaluate(const EvalConfig& config, const std::vector<Ev
       MethodResult mr;
       mr.name = method.name;
       std::vector<EnergyReport> sequence_means;
+      std::vector<PenetrationSummary> sequence_penetration;
       auto t0 = std::chrono::steady_clock::now();
       for (const Sequence& s : sequences) {
         const Garment& garment = *s.garment;
-        const Motion& motion = s.motion->motion;
-        const int start = config.start_frame;
-        int steps = motion.num_frames() - 1 - start;
-        if (config.max_frames > 0) steps = std::min(steps, config.max_frames);
-        RolloutInput in = lbs_rollout_input(*s.body, garment, motion, start, steps, effects, config.material,
-                                            config.push_out_gap);
+        RolloutInput in = sequence_input(config, effects, s);
         GarmentTopology topology;
         StepFunction step;
         if (method.model) {
@@ -147,20 +257,25 @@ std::vector<LevelResult> evaluate(const EvalConfig& config, const std::vector<Ev
           step = reference_stepper(config.physics.solver);
         }
         RolloutResult r = run_rollout(in, step, config.physics);
-        if (r.diverged && (!mr.diverged || r.diverged_at_frame < mr.diverged_at_frame)) {
+        SequenceResult q = sequence_result(s, r);
+        if (q.diverged && (!mr.diverged || q.diverged_at_frame < mr.diverged_at_frame)) {
           mr.diverged = true;
-          mr.diverged_at_frame = r.diverged_at_frame;
-          mr.diverged_sequence = garment.name + "/" + s.motion->name;
+          mr.diverged_at_frame = q.diverged_at_frame;
+          mr.diverged_sequence = q.garment + "/" + q.motion;
+          mr.diverged_reason = q.diverged_reason;
         }
-        if (!r.reports.empty()) {
-          sequence_means.push_back(mean_report(r.reports));
-          mr.frames += int(r.reports.size());
+        if (q.mean) {
+          sequence_means.push_back(*q.mean);
+          mr.frames += q.frames;
           ++mr.sequences;
         }
+        if (q.penetration) sequence_penetration.push_back(*q.penetration);
+        mr.per_sequence.push_back(std::move(q));
         bar.step(1, mr.name);
       }
       mr.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       if (!sequence_means.empty()) mr.mean = mean_report(sequence_means);
+      if (!sequence_penetration.empty()) mr.penetration = summarize_penetration(sequence_penetration);
       if (lr.K == 0 && method.model && method.model->config.is_pb4u()) lr.K = mr.K;
       lr.methods.push_back(std::move(mr));
     }
@@ -173,12 +288,12 @@ std::vector<LevelResult> evaluate(const EvalConfig& config, const std::vector<Ev
 
 std::string format_table(const std::vector<LevelResult>& levels) {
   std::ostringstream out;
+  bool any_penetration = false;
   for (const auto& lr : levels) {
     out << "Lv." << lr.level << "  (" << lr.triangles << " triangles, " << lr.vertices << " vertices, K = "
         << lr.K << ")\n";
-    std::vector<std::string> rows = lr.terms;
-    rows.push_back("total");
-    size_t w0 = 10;
+    const std::vector<std::string> rows = level_rows(lr);
+    size_t w0 = 14;
     std::vector<size_t> widths;
     for (const auto& m : lr.methods) widths.push_back(std::max<size_t>(m.name.size(), 10) + 2);
     out << std::string(w0, ' ');
@@ -188,7 +303,9 @@ std::string format_table(const std::vector<LevelResult>& levels) {
     }
     out << "\n";
     for (const auto& row : rows) {
-      std::string label = pretty_term(row);
+      const PenetrationKey* pk = penetration_key(row);
+      any_penetration = any_penetration || pk;
+      std::string label = pk ? pk->label : pretty_term(row);
       out << label << std::string(w0 - std::min(w0, label.size()), ' ');
       std::optional<double> best;
       for (const auto& m : lr.methods) {
@@ -197,7 +314,7 @@ std::string format_table(const std::vector<LevelResult>& levels) {
       }
       for (size_t i = 0; i < lr.methods.size(); ++i) {
         auto v = value_of(lr.methods[i], row);
-        std::string cell = v ? sci(*v) : "n/a";
+        std::string cell = !v ? "n/a" : pk ? fixed2(*v * pk->table_scale) : sci(*v);
         if (v && lr.methods.size() > 1 && *v == *best) cell += "*";
         else cell += " ";
         out << std::string(widths[i] - std::min(widths[i], cell.size()), ' ') << cell;
@@ -207,11 +324,14 @@ std::string format_table(const std::vector<LevelResult>& levels) {
     for (const auto& m : lr.methods) {
       if (m.diverged)
         out << "  " << m.name << ": diverged at frame " << m.diverged_at_frame << " (" << m.diverged_sequence
-            << "); averages use the " << m.frames << " finite frames\n";
+            << ": " << m.diverged_reason << "); averages use the " << m.frames << " frames before the stop\n";
     }
     out << "\n";
   }
   out << "* lowest value in the row. Energies in J, per frame, averaged over frames and sequences.\n";
+  if (any_penetration)
+    out << "Inside %: garment vertices inside the body, mean over frames and sequences (max: worst frame);\n"
+           "Depth max mm: the deepest garment vertex on any frame.\n";
   return out.str();
 }
 
@@ -220,9 +340,7 @@ std::string format_csv(const std::vector<LevelResult>& levels) {
   out << "level,triangles,vertices,method,K,term,value,diverged,diverged_at_frame\n";
   for (const auto& lr : levels)
     for (const auto& m : lr.methods) {
-      std::vector<std::string> rows = lr.terms;
-      rows.push_back("total");
-      for (const auto& row : rows) {
+      for (const auto& row : level_rows(lr)) {
         auto v = value_of(m, row);
         std::string name = m.name;
         if (name.find(',') != std::string::npos) name = "\"" + name + "\"";
@@ -234,6 +352,39 @@ std::string format_csv(const std::vector<LevelResult>& levels) {
   return out.str();
 }
 
+namespace {
+
+// "key": value, ... for each row (null when absent), each followed by ", ".
+std::string json_rows(const std::vector<std::string>& rows, const std::optional<EnergyReport>& mean,
+                      const std::optional<PenetrationSummary>& penetration) {
+  std::string out;
+  for (const auto& row : rows) {
+    if (penetration_key(row) && !penetration) continue;  // a sequence without a measured frame
+    auto v = row_value(mean, penetration, row);
+    out += json_string(row) + ": " + (v ? json_number(*v) : "null") + ", ";
+  }
+  return out;
+}
+
+// The divergence keys (SPEC 7), and the reason when it diverged.
+std::string json_divergence(bool diverged, int at_frame, const std::string& reason) {
+  if (!diverged) return "\"diverged\": false, \"diverged_at_frame\": null";
+  return "\"diverged\": true, \"diverged_at_frame\": " + std::to_string(at_frame) +
+         ", \"diverged_reason\": " + json_string(reason);
+}
+
+std::string json_sequence(const SequenceResult& q, const std::vector<std::string>& rows) {
+  std::ostringstream out;
+  out << "{\"body\": " << json_string(q.body) << ", \"garment\": " << json_string(q.garment)
+      << ", \"motion\": " << json_string(q.motion) << ", \"frames\": " << q.frames << ", "
+      << json_rows(rows, q.mean, q.penetration) << "\"positive_energy\": " << json_number(q.positive_energy)
+      << ", \"max_positive_energy\": " << json_number(q.max_positive_energy) << ", "
+      << json_divergence(q.diverged, q.diverged_at_frame, q.diverged_reason) << "}";
+  return out.str();
+}
+
+}  // namespace
+
 std::string format_json(const std::vector<LevelResult>& levels) {
   std::ostringstream out;
   out << "{\"levels\": [";
@@ -241,17 +392,15 @@ std::string format_json(const std::vector<LevelResult>& levels) {
     const auto& lr = levels[l];
     out << (l ? ", " : "") << "{\"level\": " << lr.level << ", \"triangles\": " << lr.triangles
         << ", \"vertices\": " << lr.vertices << ", \"K\": " << lr.K << ", \"methods\": {";
+    const std::vector<std::string> rows = level_rows(lr);
     for (size_t i = 0; i < lr.methods.size(); ++i) {
       const auto& m = lr.methods[i];
-      out << (i ? ", " : "") << json_string(m.name) << ": {";
-      std::vector<std::string> rows = lr.terms;
-      rows.push_back("total");
-      for (const auto& row : rows) {
-        auto v = value_of(m, row);
-        out << json_string(row) << ": " << (v ? json_number(*v) : "null") << ", ";
-      }
-      out << "\"K\": " << m.K << ", \"frames\": " << m.frames << ", \"diverged\": " << (m.diverged ? "true" : "false")
-          << ", \"diverged_at_frame\": " << (m.diverged ? std::to_string(m.diverged_at_frame) : "null") << "}";
+      out << (i ? ", " : "") << json_string(m.name) << ": {" << json_rows(rows, m.mean, m.penetration)
+          << "\"sequences\": [";
+      for (size_t k = 0; k < m.per_sequence.size(); ++k)
+        out << (k ? ", " : "") << json_sequence(m.per_sequence[k], rows);
+      out << "], \"K\": " << m.K << ", \"frames\": " << m.frames << ", "
+          << json_divergence(m.diverged, m.diverged_at_frame, m.diverged_reason) << "}";
     }
     out << "}}";
   }

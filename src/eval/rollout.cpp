@@ -87,6 +87,9 @@ FrameState rollout_start_state(const RolloutInput& in) {
   if (in.effects.needs_body() && int(in.body.size()) < std::max(in.steps + 1, 1))
     throw Error("rollout: the effects need a body but " + std::to_string(in.body.size()) +
                 " body frames were given for " + std::to_string(in.steps) + " steps");
+  if (!in.body.empty() && int(in.body.size()) < in.steps + 1)
+    throw Error("rollout: " + std::to_string(in.body.size()) + " body frames were given for " +
+                std::to_string(in.steps) + " steps (it needs frames 0.." + std::to_string(in.steps) + ")");
   FrameState state;
   state.x = matrix_to_tensor(in.x0);
   state.x_prev = matrix_to_tensor(in.x_prev);
@@ -117,7 +120,9 @@ RolloutResult run_rollout(const RolloutInput& in, const StepFunction& step,
                                             physics.degenerate_area);
   TermList terms = build_terms(in.effects, physics);
 
+  const bool measure_penetration = !in.body.empty();
   RolloutResult result;
+  double start_positive = 0;  // frame 1's positive energy (J): the divergence guard's start
   for (int frame = 1; frame <= in.steps; ++frame) {
     if (with_body && frame > 1) {
       state.body.vertices = matrix_to_tensor(in.body[frame - 1]);
@@ -138,13 +143,30 @@ RolloutResult run_rollout(const RolloutInput& in, const StepFunction& step,
     if (!finite) {
       result.diverged = true;
       result.diverged_at_frame = frame;
+      result.diverged_reason = "non-finite position or energy";
       result.worst_vertex = worst_vertex(state.x, x_next);
       break;
+    }
+    const Eigen::MatrixXd x = tensor_to_matrix(x_next);
+    std::optional<PenetrationFigures> penetration;
+    if (measure_penetration) {
+      penetration = garment_penetration(x, in.body[frame], in.body_faces);
+      result.penetration.push_back(*penetration);
     }
     result.reports.push_back(report);
     result.step_ms.push_back(step_ms);
     result.contact_ms.push_back(contact_ms);
-    if (on_frame) on_frame(frame, tensor_to_matrix(x_next), report);
+    if (on_frame) on_frame(frame, x, report, penetration ? &*penetration : nullptr);
+    const double positive = positive_energy(report);
+    if (frame == 1) start_positive = positive;
+    const std::string why = energy_divergence(in.divergence, start_positive, positive);
+    if (!why.empty()) {
+      result.diverged = true;
+      result.diverged_at_frame = frame;
+      result.diverged_reason = why;
+      result.worst_vertex = worst_vertex(state.x, x_next);
+      break;
+    }
     state.x_prev = state.x;
     state.x = x_next;
   }

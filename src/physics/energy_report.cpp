@@ -67,4 +67,11 @@ EnergyReport mean_report(const std::vector<EnergyReport>& reports) {
   return mean;
 }
 
+double positive_energy(const EnergyReport& report) {
+  double e = 0;
+  for (const char* t : {"stretch", "bending", "collision"})
+    if (report.has(t)) e += report.value(t);
+  return e;
+}
+
 }  // namespace pb4u

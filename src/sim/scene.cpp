@@ -11,6 +11,7 @@
 #include "pb4u/garment/skin_weight_transfer.h"
 #include "pb4u/io/mesh_io.h"
 #include "pb4u/mesh/topology.h"
+#include "pb4u/scene/pins.h"
 #include "pb4u/util/error.h"
 
 namespace pb4u {
@@ -142,11 +143,7 @@ SceneSetup build_scene(const SceneConfig& scene, const std::string& where) {
       s.body.push_back(pose_body(body, motion.frames[std::min(t, motion.num_frames() - 1)]));
   }
 
-  if (scene.pins.top_band > 0) {
-    const double top = s.x0.col(1).maxCoeff();
-    for (int i = 0; i < s.x0.rows(); ++i)
-      if (s.x0(i, 1) >= top - scene.pins.top_band) s.pinned.push_back(i);
-  }
+  if (scene.pins.top_band > 0) s.pinned = top_band_vertices(s.x0, scene.pins.top_band);
   for (int i : scene.pins.vertices) {
     if (i < 0 || i >= s.x0.rows())
       throw Error(where + ": pins.vertices: " + std::to_string(i) + " is not a vertex (the garment has " +

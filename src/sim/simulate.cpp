@@ -34,6 +34,7 @@ RolloutInput scene_rollout_input(const SceneConfig& scene, const SceneSetup& set
   in.material = scene.material;
   in.metric_material = scene.material;
   in.steps = scene.frames;
+  in.divergence = scene.divergence;
   return in;
 }
 
@@ -62,19 +63,29 @@ SimulateResult simulate(const SceneConfig& scene, const std::string& scene_path,
   std::vector<std::string> terms;
   for (const auto& t : build_terms(setup.effects, scene.physics)) terms.push_back(t->name());
 
-  // Frame 0 is the start state, which no step produced: its energies are "nan" (not computed).
+  // Frame 0 is the start state, which no step produced: its energies (and, with a body, its
+  // penetration) are "nan" (not computed).
   const double nan = std::numeric_limits<double>::quiet_NaN();
   std::vector<std::pair<std::string, double>> zero;
   for (const auto& t : terms) zero.emplace_back(t, nan);
   zero.emplace_back("total", nan);
+  if (body_written) {
+    zero.emplace_back("penetrating_fraction", nan);
+    zero.emplace_back("max_penetration_mm", nan);
+  }
   const Eigen::MatrixXd none;
   writer.add_frame(setup.x0, body_written ? setup.body[0] : none, zero);
 
   Progress bar("simulate", scene.frames, "frame");
   RolloutResult r = run_rollout(in, step, scene.physics,
-                                [&](int frame, const Eigen::MatrixXd& x, const EnergyReport& report) {
+                                [&](int frame, const Eigen::MatrixXd& x, const EnergyReport& report,
+                                    const PenetrationFigures* penetration) {
                                   auto row = report.terms;
                                   row.emplace_back("total", report.total);
+                                  if (penetration) {
+                                    row.emplace_back("penetrating_fraction", penetration->penetrating_fraction);
+                                    row.emplace_back("max_penetration_mm", penetration->max_penetration_mm);
+                                  }
                                   writer.add_frame(x, body_written ? setup.body[frame] : none, row);
                                   char status[48];
                                   std::snprintf(status, sizeof status, "total %.3e J", report.total);
@@ -87,6 +98,7 @@ SimulateResult simulate(const SceneConfig& scene, const std::string& scene_path,
   result.frames = writer.num_frames();
   result.diverged = r.diverged;
   result.diverged_at_frame = r.diverged_at_frame;
+  result.diverged_reason = r.diverged_reason;
   result.worst_vertex = r.worst_vertex;
   if (scene.outputs.plot && scene.outputs.energies_csv && writer.num_frames() > 1)
     plot_energies(out_dir + "/energies.csv", out_dir + "/energies.png", &result.files);

@@ -17,6 +17,20 @@ struct PointCloud {
 };
 using Tree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, PointCloud>,
                                                  PointCloud, 3, size_t>;
+
+// The (index, squared distance) pairs strictly closer than `radius` to p, sorted by index.
+void sorted_hits_within(const Tree& tree, const double p[3], double radius,
+                        std::vector<std::pair<size_t, double>>* hits) {
+  nanoflann::SearchParams params;
+  params.sorted = false;
+  hits->clear();
+  // nanoflann's L2 adaptors take the squared radius (and keep distances equal to it).
+  tree.radiusSearch(p, radius * radius, *hits, params);
+  hits->erase(std::remove_if(hits->begin(), hits->end(),
+                             [&](const std::pair<size_t, double>& h) { return !(h.second < radius * radius); }),
+              hits->end());
+  std::sort(hits->begin(), hits->end());
+}
 }  // namespace
 
 struct PointKdTree::Impl {
@@ -62,18 +76,22 @@ std::vector<std::pair<int, int>> PointKdTree::within_radius(const Eigen::MatrixX
   std::vector<std::pair<int, int>> pairs;
   if (!impl_->tree) return pairs;
   std::vector<std::pair<size_t, double>> hits;
-  nanoflann::SearchParams params;
-  params.sorted = false;
   for (Eigen::Index q = 0; q < queries.rows(); ++q) {
-    double p[3] = {queries(q, 0), queries(q, 1), queries(q, 2)};
-    hits.clear();
-    // nanoflann's L2 adaptors take the squared radius.
-    impl_->tree->radiusSearch(p, radius * radius, hits, params);
-    std::sort(hits.begin(), hits.end());
-    for (const auto& h : hits)
-      if (h.second < radius * radius) pairs.emplace_back(static_cast<int>(q), static_cast<int>(h.first));
+    const double p[3] = {queries(q, 0), queries(q, 1), queries(q, 2)};
+    sorted_hits_within(*impl_->tree, p, radius, &hits);
+    for (const auto& h : hits) pairs.emplace_back(static_cast<int>(q), static_cast<int>(h.first));
   }
   return pairs;
+}
+
+std::vector<int> PointKdTree::within_radius_of(const Eigen::Vector3d& query, double radius) const {
+  std::vector<int> out;
+  if (!impl_->tree) return out;
+  std::vector<std::pair<size_t, double>> hits;
+  const double p[3] = {query.x(), query.y(), query.z()};
+  sorted_hits_within(*impl_->tree, p, radius, &hits);
+  for (const auto& h : hits) out.push_back(static_cast<int>(h.first));
+  return out;
 }
 
 }  // namespace pb4u

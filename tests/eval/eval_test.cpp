@@ -266,7 +266,9 @@ TEST(Simulate, BodylessSceneBuildsNoBodyQueriesAndPinsHold) {
   GarmentTopology topology = build_garment_topology(setup.garment);
   Eigen::MatrixXd last;
   RolloutResult r = run_rollout(in, network_stepper(m, topology), scene.physics,
-                                [&](int, const Eigen::MatrixXd& x, const EnergyReport& report) {
+                                [&](int, const Eigen::MatrixXd& x, const EnergyReport& report,
+                                    const PenetrationFigures* penetration) {
+                                  EXPECT_EQ(penetration, nullptr);  // no body, nothing to measure
                                   last = x;
                                   EXPECT_FALSE(report.has("collision"));
                                   EXPECT_FALSE(report.has("friction"));

@@ -10,6 +10,7 @@
 
 #include "pb4u/mesh/edges.h"
 #include "pb4u/mesh/geometry.h"
+#include "pb4u/scene/pins.h"
 
 namespace pb4u::hard {
 
@@ -82,16 +83,21 @@ RolloutInput still_start(const TriMesh& garment, const Effects& effects, const M
   in.effects = effects;
   in.material = in.metric_material = material;
   in.steps = steps;
-  if (effects.pins) {
-    const double top = garment.V.col(1).maxCoeff();
-    for (int i = 0; i < garment.V.rows(); ++i)
-      if (garment.V(i, 1) > top - 1e-6) in.pinned.push_back(i);
-  }
+  if (effects.pins) in.pinned = top_band_vertices(garment.V, 1e-6);
   return in;
 }
 
-RolloutFigures check_rollout(const std::string& label, const RolloutInput& in, const StepFunction& step,
+Bounds finite_only() {
+  Bounds b;
+  b.max_stretch = 0;
+  b.energy_guard = false;
+  return b;
+}
+
+RolloutFigures check_rollout(const std::string& label, const RolloutInput& input, const StepFunction& step,
                              const PhysicsConfig& physics, const Bounds& bounds) {
+  RolloutInput in = input;
+  if (!bounds.energy_guard) in.divergence.energy_ratio = 0;
   const TriMesh& rest = in.garment_rest;
   const Eigen::MatrixXi E = unique_edges(rest.F);
   const Eigen::VectorXd L = edge_lengths(rest.V, E);
@@ -110,7 +116,8 @@ RolloutFigures check_rollout(const std::string& label, const RolloutInput& in, c
   RolloutFigures fig;
   Eigen::MatrixXd prev = in.x0;
   auto t0 = std::chrono::steady_clock::now();
-  RolloutResult r = run_rollout(in, step, physics, [&](int frame, const Eigen::MatrixXd& x, const EnergyReport& rep) {
+  RolloutResult r = run_rollout(in, step, physics, [&](int frame, const Eigen::MatrixXd& x, const EnergyReport& rep,
+                                                      const PenetrationFigures*) {
     ++fig.frames;
     EXPECT_TRUE(x.allFinite()) << label << " frame " << frame;
     EXPECT_TRUE(std::isfinite(rep.total)) << label << " frame " << frame;
@@ -134,13 +141,58 @@ RolloutFigures check_rollout(const std::string& label, const RolloutInput& in, c
     }
   });
   fig.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  EXPECT_FALSE(r.diverged) << label << ": diverged at frame " << r.diverged_at_frame << " (vertex "
-                           << r.worst_vertex << ")";
+  EXPECT_FALSE(r.diverged) << label << ": diverged at frame " << r.diverged_at_frame << ": " << r.diverged_reason
+                           << " (vertex " << r.worst_vertex << ")";
   EXPECT_EQ(fig.frames, in.steps) << label;
-  std::printf("[hard] %s: %d frames, %lld vertices, max stretch %.3fx, max total %.4g J, max speed %.3g m/s, %.2f s\n",
+  for (const EnergyReport& rep : r.reports) {
+    fig.mean_positive += positive_energy(rep) / double(r.reports.size());
+    fig.max_positive = std::max(fig.max_positive, positive_energy(rep));
+  }
+  if (!r.penetration.empty()) fig.penetration = summarize_penetration(r.penetration);
+  std::printf("[hard] %s: %d frames, %lld vertices, max stretch %.3fx, max total %.4g J, positive energy mean %.4g / "
+              "max %.4g J, max speed %.3g m/s, %.2f s\n",
               label.c_str(), fig.frames, static_cast<long long>(rest.V.rows()), fig.max_stretch, fig.max_total,
-              fig.max_speed, fig.seconds);
+              fig.mean_positive, fig.max_positive, fig.max_speed, fig.seconds);
+  if (fig.penetration)
+    std::printf("[hard] %s: inside %.2f%% mean / %.2f%% max, deepest %.2f mm\n", label.c_str(),
+                100 * fig.penetration->penetrating_fraction, 100 * fig.penetration->max_penetrating_fraction,
+                fig.penetration->max_penetration_mm);
   return fig;
+}
+
+double energy_floor(const RolloutInput& in) {
+  const double mass = in.metric_material.density * face_areas(in.garment_rest.V, in.garment_rest.F).sum();
+  return mass * 9.81 * 0.01;
+}
+
+void check_relative(const std::string& label, const RolloutInput& input, const RolloutFigures& network,
+                    const RolloutFigures& reference, const RelativeBounds& bounds) {
+  const double floor = energy_floor(input);
+  const double mean_ratio = network.mean_positive / std::max(reference.mean_positive, floor);
+  const double max_ratio = network.max_positive / std::max(reference.max_positive, floor);
+  EXPECT_LE(mean_ratio, bounds.mean_positive_ratio)
+      << label << ": mean positive energy " << network.mean_positive << " J vs the reference's "
+      << reference.mean_positive << " J (floor " << floor << " J)";
+  EXPECT_LE(max_ratio, bounds.max_positive_ratio)
+      << label << ": largest positive energy " << network.max_positive << " J vs the reference's "
+      << reference.max_positive << " J (floor " << floor << " J)";
+  std::printf("[hard] %s: positive energy / reference (floor %.3g J): mean %.3gx, max %.3gx (bounds %gx, %gx)\n",
+              label.c_str(), floor, mean_ratio, max_ratio, bounds.mean_positive_ratio, bounds.max_positive_ratio);
+  if (!reference.penetration) return;
+  EXPECT_TRUE(network.penetration.has_value()) << label << ": no penetration measured for the network";
+  if (!network.penetration) return;
+  const PenetrationSummary& n = *network.penetration;
+  const PenetrationSummary& r = *reference.penetration;
+  EXPECT_LE(n.penetrating_fraction, r.penetrating_fraction + bounds.penetrating_fraction_margin)
+      << label << ": mean share of vertices inside the body " << n.penetrating_fraction << " vs the reference's "
+      << r.penetrating_fraction;
+  EXPECT_LE(n.max_penetration_mm, r.max_penetration_mm + bounds.penetration_mm_margin)
+      << label << ": deepest penetration " << n.max_penetration_mm << " mm vs the reference's " << r.max_penetration_mm
+      << " mm";
+  std::printf("[hard] %s: inside %.2f%% vs reference %.2f%% (margin %.0f points), deepest %.2f vs %.2f mm (margin %g mm)\n",
+              label.c_str(), 100 * n.penetrating_fraction, 100 * r.penetrating_fraction,
+              100 * bounds.penetrating_fraction_margin, n.max_penetration_mm, r.max_penetration_mm,
+              bounds.penetration_mm_margin);
 }
 
 }  // namespace pb4u::hard

@@ -1,6 +1,8 @@
 #pragma once
-// Shared pieces of the hard-case suite (issue 9): models, meshes that are hard on purpose,
-// and one check that a rollout stays finite and bounded frame by frame.
+// Shared pieces of the hard-case suite (issues 9, 14): models, meshes that are hard on purpose,
+// one check that a rollout stays finite and bounded frame by frame, and the SPEC 9 check
+// that a network stays bounded against the reference solver on the same scene.
+#include <optional>
 #include <string>
 
 #include "pb4u/eval/model_file.h"
@@ -36,20 +38,50 @@ struct Bounds {
   // Edges only in faces of zero rest area are left out: nothing resists their stretch.
   bool skip_zero_area_edges = true;
   double max_speed = 0;  // m/s, fastest allowed garment vertex; <= 0: not checked
+  // false: only a non-finite frame stops the rollout (finiteness-only checks, where the
+  // energy may grow without bound by design: random weights).
+  bool energy_guard = true;
 };
+
+// Bounds with only finiteness checked.
+Bounds finite_only();
 
 struct RolloutFigures {
   int frames = 0;
   double max_stretch = 0;      // largest current / rest edge length seen
   double max_total = 0;        // J, largest total energy of a frame
   double max_speed = 0;        // m/s, fastest garment vertex
+  double mean_positive = 0;    // J, stretch + bending + collision, mean per frame
+  double max_positive = 0;     // J, its largest frame
+  std::optional<PenetrationSummary> penetration;  // with a body
   double seconds = 0;
 };
 
 // Runs the rollout and checks (gtest EXPECTs) every frame: positions and every energy
-// finite, the non-negative terms (all but gravity) >= 0, no divergence, every frame produced,
-// edges within bounds. Prints one "[hard] <label>: ..." line with the figures.
+// finite, the non-negative terms (all but gravity) >= 0, no divergence (non-finite, or the
+// input's energy guard unless bounds.energy_guard is off), every frame produced, edges within
+// bounds. Prints one "[hard] <label>: ..." line with the figures.
 RolloutFigures check_rollout(const std::string& label, const RolloutInput& input, const StepFunction& step,
                              const PhysicsConfig& physics, const Bounds& bounds = {});
+
+// SPEC 9: a network is stable when it stays bounded against the reference solver on the same
+// scene, not merely finite. Energies are compared against the reference's, at least
+// `energy_floor(input)`.
+struct RelativeBounds {
+  double mean_positive_ratio = 10;       // network mean positive energy / reference's
+  double max_positive_ratio = 10;        // network largest frame / reference's largest
+  double penetrating_fraction_margin = 0.05;  // network mean share inside <= reference's + this
+  double penetration_mm_margin = 10;     // network deepest penetration (mm) <= reference's + this
+};
+
+// J: the energy of lowering the cloth by 1 cm (its weight times 1 cm) under the input's
+// material. Below it a positive-energy difference is not visible, so a reference at rest
+// (zero stretch) does not make any network motion an infinite ratio.
+double energy_floor(const RolloutInput& input);
+
+// Checks (gtest EXPECTs) `network` against `reference`, both run on `input`, and prints one
+// "[hard] <label>: ..." line with the ratios and margins.
+void check_relative(const std::string& label, const RolloutInput& input, const RolloutFigures& network,
+                    const RolloutFigures& reference, const RelativeBounds& bounds = {});
 
 }  // namespace pb4u::hard

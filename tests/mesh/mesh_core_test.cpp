@@ -9,19 +9,11 @@
 #include "pb4u/mesh/geometry.h"
 #include "pb4u/mesh/rest_frames.h"
 #include "pb4u/mesh/topology.h"
+#include "mesh/corner_tetrahedron.h"
 #include "test_util.h"
 
 namespace pb4u {
 namespace {
-
-TriMesh tetrahedron() {
-  TriMesh m;
-  m.V.resize(4, 3);
-  m.V << 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1;
-  m.F.resize(4, 3);
-  m.F << 0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3;  // outward
-  return m;
-}
 
 TEST(MeshCore, GridCountsFollowEuler) {
   TriMesh g = test::grid_mesh(4);
@@ -123,7 +115,7 @@ TEST(MeshCore, HingeOppositeVertices) {
 }
 
 TEST(MeshCore, TopologyOfClosedAndOpenSurfaces) {
-  TriMesh t = tetrahedron();
+  TriMesh t = test::corner_tetrahedron();
   EXPECT_TRUE(boundary_loops(t.F).empty());
   ManifoldReport r = check_manifold(t.F, 4);
   EXPECT_TRUE(r.manifold());
@@ -139,7 +131,7 @@ TEST(MeshCore, TopologyOfClosedAndOpenSurfaces) {
 }
 
 TEST(MeshCore, DetectsNonManifoldEdgeVertexAndFlippedFace) {
-  TriMesh t = tetrahedron();
+  TriMesh t = test::corner_tetrahedron();
   // A third face on edge (0, 1): non-manifold edge.
   TriMesh fin = t;
   fin.V.conservativeResize(5, 3);
@@ -169,7 +161,7 @@ TEST(MeshCore, DetectsNonManifoldEdgeVertexAndFlippedFace) {
 }
 
 TEST(MeshCore, TwoComponents) {
-  TriMesh a = tetrahedron();
+  TriMesh a = test::corner_tetrahedron();
   TriMesh both;
   both.V.resize(8, 3);
   both.V << a.V, (a.V.array() + 5.0).matrix();

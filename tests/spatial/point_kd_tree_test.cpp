@@ -40,6 +40,14 @@ TEST(PointKdTree, RadiusMatchesBruteForce) {
     for (int p = 0; p < P.rows(); ++p)
       if ((P.row(p) - Q.row(q)).norm() < r) expected.emplace_back(q, p);
   EXPECT_EQ(pairs, expected);
+  // One query at a time, each with its own radius.
+  for (int q = 0; q < Q.rows(); ++q) {
+    const double rq = 0.05 + 0.003 * q;
+    std::vector<int> one;
+    for (int p = 0; p < P.rows(); ++p)
+      if ((P.row(p) - Q.row(q)).norm() < rq) one.push_back(p);
+    EXPECT_EQ(tree.within_radius_of(Q.row(q).transpose(), rq), one) << q;
+  }
 }
 
 TEST(PointKdTree, EmptySet) {
@@ -48,6 +56,7 @@ TEST(PointKdTree, EmptySet) {
   tree.nearest(random_points(3, 5), &idx);
   EXPECT_EQ(idx(0), -1);
   EXPECT_TRUE(tree.within_radius(random_points(3, 5), 1.0).empty());
+  EXPECT_TRUE(tree.within_radius_of(Eigen::Vector3d::Zero(), 1.0).empty());
 }
 
 }  // namespace

@@ -7,11 +7,14 @@
 // frames after warm-up). A per-stage breakdown of one frame shows where the time goes, and a
 // variant without a body shows what skipping world edges and contact saves.
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "pb4u/config/config_io.h"
+#include "pb4u/eval/divergence_guard.h"
 #include "pb4u/physics/material.h"
+#include "pb4u/physics/penetration.h"
 #include "pb4u/physics/physics_config.h"
 
 namespace pb4u {
@@ -38,6 +41,7 @@ struct BenchConfig {
   std::vector<std::string> effects{"gravity", "collision", "friction"};
   Material material;      // the evaluation material (SPEC 2 defaults)
   PhysicsConfig physics;  // solver defaults; the budget is overridden per run
+  DivergenceConfig divergence;  // when a run stops as diverged
 
   template <class V>
   void visit(V& v) {
@@ -60,6 +64,7 @@ struct BenchConfig {
     v("effects", effects);
     v("material", material);
     v("physics", physics);
+    v("divergence", divergence);
   }
 };
 
@@ -79,6 +84,7 @@ struct BenchRow {
   int frames = 0;                 // finite frames
   bool diverged = false;
   int diverged_at_frame = -1;
+  std::optional<PenetrationSummary> penetration;  // with a body
 };
 
 // Median wall time (ms) of each stage of one network frame at one level.
@@ -110,7 +116,8 @@ BenchResult run_bench(const BenchConfig& config, const std::function<void(const 
 
 // SPEC 7: level,triangles,vertices,method,K,threads,latency_ms_median,latency_ms_min,physics_loss
 std::string format_bench_csv(const BenchResult& result);
-// Every column of every row, terms included (for plots and scripts).
+// Every column of every row, terms and (with a body) penetration included (for plots and
+// scripts).
 std::string format_bench_details_csv(const BenchResult& result);
 std::string format_stages_csv(const BenchResult& result);
 // Table 3 layout: per level, one row per method with K, latency, total and positive loss;

@@ -1,45 +1,78 @@
 #pragma once
 // `pb4u evaluate` (Table 1): every model (and optionally the reference solver) rolls out the
-// held-out test motions of a dataset from their LBS-initialised first frame, at each
-// resolution level, with full effects and the evaluation material; each active term is
-// averaged over the finite frames and then over sequences.
+// held-out motions of a dataset (split `split`) from their LBS-initialised first frame, at
+// each resolution level, with the config's effects and the evaluation material; each active
+// term is averaged over the measured frames and then over sequences. With a body, the
+// garment's penetration is measured too (physics/penetration.h). Without one (e.g. effects
+// [gravity, pins]) each garment hangs from rest, pinned by rule, for max_frames frames.
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "pb4u/config/config_io.h"
+#include "pb4u/eval/divergence_guard.h"
 #include "pb4u/eval/model_file.h"
 #include "pb4u/physics/energy_report.h"
 #include "pb4u/physics/material.h"
+#include "pb4u/physics/penetration.h"
 #include "pb4u/physics/physics_config.h"
 
 namespace pb4u {
 
+// Pins of a body-less evaluation, by rule (scene/pins.h), for every garment alike.
+struct EvalPins {
+  double top_band = 0;  // m: pin the vertices within this distance of the garment's highest one
+
+  template <class V>
+  void visit(V& v) {
+    v("top_band", top_band, non_negative());
+  }
+};
+
 struct EvalConfig {
   std::string dataset = "data/generated/quick/quick.h5";  // written by `pb4u generate`
   std::vector<int> levels{1, 2, 3, 4};  // 1-based, as in the dataset
-  std::vector<std::string> garments;    // template names; empty = all
-  int max_sequences = 0;   // test motions per garment and body, 0 = all
-  int max_frames = 0;      // frames rolled out per sequence, 0 = the whole motion
+  std::vector<std::string> garments;    // garment names; empty = all
+  std::string split = "test";  // the motions evaluated: the dataset's motions of this split
+  int max_sequences = 0;   // motions per garment and body, 0 = all
+  int max_frames = 0;      // frames rolled out per sequence, 0 = the whole motion (needed > 0 without a body)
   int start_frame = 1;     // LBS-initialised start (needs the frame before it)
   double push_out_gap = 0.004;  // m, as in training: LBS frames pushed out of the body
   std::vector<std::string> effects{"gravity", "collision", "friction"};
+  EvalPins pins;           // with effect `pins`
   Material material;       // the evaluation material (SPEC 2 defaults)
   PhysicsConfig physics;   // evaluation uses the final collision weight
+  DivergenceConfig divergence;  // when a rollout stops as diverged
 
   template <class V>
   void visit(V& v) {
     v("dataset", dataset);
     v("levels", levels);
     v("garments", garments);
+    v("split", split);
     v("max_sequences", max_sequences, int_at_least(0));
     v("max_frames", max_frames, int_at_least(0));
     v("start_frame", start_frame, int_at_least(1));
     v("push_out_gap", push_out_gap, in_range(0, 0.05));
     v("effects", effects);
+    v("pins", pins);
     v("material", material);
     v("physics", physics);
+    v("divergence", divergence);
   }
+};
+
+// One rollout of one method: what the stability report compares across methods.
+struct SequenceResult {
+  std::string body, garment, motion;  // motion "rest": a body-less rollout from rest
+  int frames = 0;                     // frames measured
+  std::optional<EnergyReport> mean;   // over those frames; absent when none
+  double positive_energy = 0;         // J: mean per frame of stretch + bending + collision
+  double max_positive_energy = 0;     // J: its largest frame
+  std::optional<PenetrationSummary> penetration;  // with a body (and a measured frame)
+  bool diverged = false;
+  int diverged_at_frame = -1;
+  std::string diverged_reason;
 };
 
 // One method at one level.
@@ -47,10 +80,13 @@ struct MethodResult {
   std::string name;
   int64_t K = 0;                // propagation steps used (0: MGN / reference)
   std::optional<EnergyReport> mean;  // absent when no frame was finite
-  int sequences = 0, frames = 0;     // finite frames averaged
+  std::optional<PenetrationSummary> penetration;  // with a body: frames, then sequences
+  int sequences = 0, frames = 0;     // measured frames averaged
   bool diverged = false;
   int diverged_at_frame = -1;        // earliest, over sequences
   std::string diverged_sequence;     // "<garment>/<motion>" of that earliest divergence
+  std::string diverged_reason;       // and why it stopped
+  std::vector<SequenceResult> per_sequence;  // every rollout, in evaluation order
   double seconds = 0;                // wall time of the rollouts
 };
 
@@ -75,12 +111,15 @@ std::vector<std::string> method_names(const std::vector<ModelFile>& models,
 // Runs the evaluation (progress bar per level). Throws pb4u::Error on bad config / data.
 std::vector<LevelResult> evaluate(const EvalConfig& config, const std::vector<EvalMethod>& methods);
 
-// The paper's layout: per level, rows Stretch ... Friction, Total; one column per method;
-// values as 5.30E-02; the lowest value per row marked with '*'; diverged methods noted.
+// The paper's layout: per level, rows Stretch ... Friction, Total (and with a body the
+// penetration rows Inside %, Inside max %, Depth max mm); one column per method; energies as
+// 5.30E-02; the lowest value per row marked with '*'; diverged methods noted.
 std::string format_table(const std::vector<LevelResult>& levels);
-// level,triangles,vertices,method,K,term,value,diverged,diverged_at_frame
+// level,triangles,vertices,method,K,term,value,diverged,diverged_at_frame; with a body the
+// terms include penetrating_fraction, max_penetrating_fraction and max_penetration_mm.
 std::string format_csv(const std::vector<LevelResult>& levels);
-// SPEC 7 JSON.
+// SPEC 7 JSON, plus per method K, frames, the penetration keys (with a body), the divergence
+// reason (when diverged) and "sequences": one object per rollout (SequenceResult).
 std::string format_json(const std::vector<LevelResult>& levels);
 
 }  // namespace pb4u

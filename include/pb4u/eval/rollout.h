@@ -11,11 +11,13 @@
 #include <vector>
 
 #include "pb4u/body/body.h"
+#include "pb4u/eval/divergence_guard.h"
 #include "pb4u/eval/model_file.h"
 #include "pb4u/garment/garment.h"
 #include "pb4u/graph/garment_topology.h"
 #include "pb4u/physics/body_queries.h"
 #include "pb4u/physics/energy_report.h"
+#include "pb4u/physics/penetration.h"
 #include "pb4u/physics/physics_term.h"
 #include "pb4u/scene/effects.h"
 #include "pb4u/util/eigen_tensor.h"
@@ -25,7 +27,9 @@ namespace pb4u {
 struct RolloutInput {
   TriMesh garment_rest;              // rest shape (m): cloth geometry, topology, Lbar
   Eigen::MatrixXd x0, x_prev;        // n x 3 m: garment at frame 0 and one frame before
-  std::vector<Eigen::MatrixXd> body; // nb x 3 m per frame, frames 0..steps; empty: no body
+  // nb x 3 m per frame, frames 0..steps; empty: no body. With a body every frame's garment is
+  // also measured against it (penetration).
+  std::vector<Eigen::MatrixXd> body;
   Eigen::MatrixXi body_faces;        // mb x 3, outward
   std::vector<int> pinned;           // pinned vertex indices, held at their x0 positions
   Effects effects;
@@ -33,6 +37,7 @@ struct RolloutInput {
   Material metric_material;          // what the energies are reported under
   int steps = 0;                     // frames to advance
   double dt = 1.0 / 30.0;            // s
+  DivergenceConfig divergence;       // when to stop beyond non-finite values
 };
 
 // The rollout of `garment` worn by `body` under `motion`, from its LBS-initialised frame
@@ -52,24 +57,32 @@ StepFunction network_stepper(const ModelFile& model, const GarmentTopology& topo
 StepFunction reference_stepper(const ReferenceSolverConfig& solver);
 
 struct RolloutResult {
-  std::vector<EnergyReport> reports;  // one per finite frame 1..
+  // One per measured frame 1..: every finite frame up to the stop, the frame whose positive
+  // energy tripped the guard included (it is finite: its figures show the blow-up).
+  std::vector<EnergyReport> reports;
+  // With a body, one per report: x_{t+1} against the body at t + 1. Empty without a body.
+  std::vector<PenetrationFigures> penetration;
   bool diverged = false;
-  int diverged_at_frame = -1;         // the first frame with a non-finite position or energy
+  int diverged_at_frame = -1;         // the frame that stopped the rollout
+  std::string diverged_reason;        // "non-finite position or energy" or the energy guard's reason
   int worst_vertex = -1;              // the vertex that moved most (non-finite first) there
   // Wall time (ms) per finite frame of the stepper and of the body contact query
   // (body_contact_for: KD-tree and closest points, which the physics terms and the solver use).
   std::vector<double> step_ms, contact_ms;
 };
 
-// Called with frame index (1..steps), garment positions (n x 3 m) and the frame's energies.
-using FrameCallback = std::function<void(int frame, const Eigen::MatrixXd& garment, const EnergyReport& report)>;
+// Called with frame index (1..steps), garment positions (n x 3 m), the frame's energies and,
+// with a body, its penetration (null without one).
+using FrameCallback = std::function<void(int frame, const Eigen::MatrixXd& garment, const EnergyReport& report,
+                                         const PenetrationFigures* penetration)>;
 
 // Frame 0 of the rollout as the stepper sees it: positions, effects, material, pins and, when
 // the effects need a body, the body at frames 0 and 1. Throws pb4u::Error on inconsistent input.
 FrameState rollout_start_state(const RolloutInput& input);
 
-// Runs the rollout; a non-finite frame stops it (reported, never thrown). Throws pb4u::Error
-// on inconsistent input (sizes, a body missing when the effects need one).
+// Runs the rollout; a non-finite frame, or one whose positive energy trips
+// input.divergence, stops it (reported, never thrown). Throws pb4u::Error on inconsistent
+// input (sizes, a body missing when the effects need one).
 RolloutResult run_rollout(const RolloutInput& input, const StepFunction& step,
                           const PhysicsConfig& physics, const FrameCallback& on_frame = {});
 

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "pb4u/config/config_io.h"
+#include "pb4u/eval/divergence_guard.h"
 #include "pb4u/mesh/triangle_mesh.h"
 #include "pb4u/physics/material.h"
 #include "pb4u/physics/physics_config.h"
@@ -93,6 +94,7 @@ struct SceneConfig {
   ScenePins pins;
   Material material;
   PhysicsConfig physics;
+  DivergenceConfig divergence;  // when the rollout stops as diverged
   SceneOutputs outputs;
 
   template <class V>
@@ -104,6 +106,7 @@ struct SceneConfig {
     v("pins", pins);
     v("material", material);
     v("physics", physics);
+    v("divergence", divergence);
     v("outputs", outputs);
   }
 };

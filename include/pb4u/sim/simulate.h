@@ -14,9 +14,11 @@ struct SimulateResult {
   int frames = 0;                  // frames written (the start frame 0 included)
   bool diverged = false;
   int diverged_at_frame = -1;
+  std::string diverged_reason;     // RolloutResult::diverged_reason
   int worst_vertex = -1;
   std::vector<std::string> files;  // everything written
-  std::vector<std::string> terms;  // the energies' columns
+  std::vector<std::string> terms;  // the energy terms (energies.csv also has total and, with a
+                                   // body, penetrating_fraction and max_penetration_mm)
 };
 
 // What a rollout of the built scene starts from: garment, body frames, pins, effects, the
@@ -24,8 +26,9 @@ struct SimulateResult {
 RolloutInput scene_rollout_input(const SceneConfig& scene, const SceneSetup& setup);
 
 // Rolls `scene` out into `out_dir` (created if needed). model: null for the reference
-// solver. A divergence stops the rollout and keeps the frames written so far (reported in
-// the result, not thrown). Throws pb4u::Error on a bad scene.
+// solver. A divergence (non-finite, or the scene's `divergence` energy guard) stops the
+// rollout and keeps the frames written so far (reported in the result, not thrown). Throws
+// pb4u::Error on a bad scene.
 SimulateResult simulate(const SceneConfig& scene, const std::string& scene_path, const ModelFile* model,
                         const std::string& out_dir);
 

@@ -26,6 +26,9 @@ class PointKdTree {
   // All (query row, point index) pairs closer than `radius` (m), sorted by query then point.
   std::vector<std::pair<int, int>> within_radius(const Eigen::MatrixXd& queries, double radius) const;
 
+  // The points closer than `radius` (m) to one query point, sorted: for per-query radii.
+  std::vector<int> within_radius_of(const Eigen::Vector3d& query, double radius) const;
+
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;

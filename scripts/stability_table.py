@@ -1,0 +1,119 @@
+#!/usr/bin/python3
+"""Markdown stability table from `pb4u evaluate --format json` runs (issue 14, SPEC 9).
+Usage: stability_table.py RUN.json:LABEL [RUN2.json:LABEL2 ...] [--reference NAME] [--note TEXT]
+Each run holds the networks and the reference solver on the same sequences (evaluate's
+per-method "sequences" list). Per sequence (garment, motion, body), level and network: its
+positive energy (stretch + bending + collision) as a ratio to the solver's on the same sequence
+(mean per frame, and largest frame), the share of garment vertices inside the body (mean and
+largest over frames), the deepest penetration (mm), and where it diverged. Standard library only."""
+import argparse
+import json
+import math
+import sys
+
+
+def ratio(a, b):
+    if a is None or b is None or not math.isfinite(a) or not math.isfinite(b):
+        return "n/a"
+    if b <= 0:
+        return "n/a (solver 0 J)"
+    return "%.3g" % (a / b)
+
+
+def percent(v):
+    return "-" if v is None else "%.2f" % (100 * v)
+
+
+def mm(v):
+    return "-" if v is None else "%.2f" % v
+
+
+def diverged(q):
+    if not q.get("diverged"):
+        return "no"
+    reason = q.get("diverged_reason", "")
+    return "frame %s%s" % (q.get("diverged_at_frame"), " (%s)" % reason if reason else "")
+
+
+def rows_of(run, label, reference):
+    """Yields one table row (a list of cells) per network, sequence and level, and per-network
+    worst figures for the summary."""
+    out, summary = [], {}
+    for level in run["levels"]:
+        methods = level["methods"]
+        if reference not in methods:
+            sys.exit("stability_table.py: no method '%s' in level %s (run evaluate with --method reference)"
+                     % (reference, level["level"]))
+        solver = {(q["body"], q["garment"], q["motion"]): q for q in methods[reference]["sequences"]}
+        for name, m in methods.items():
+            if name == reference:
+                continue
+            s = summary.setdefault(name, {"cases": 0, "diverged": 0, "mean_ratio": 0.0, "max_ratio": 0.0,
+                                          "inside": 0.0, "depth": 0.0})
+            for q in m["sequences"]:
+                key = (q["body"], q["garment"], q["motion"])
+                ref = solver.get(key)
+                if ref is None:
+                    continue
+                if q["motion"] == "rest":  # body-less: the garment as fitted to this body, hanging
+                    case = "%s (%s's) / hanging from rest / no body" % (q["garment"], q["body"])
+                else:
+                    case = "%s / %s / %s" % (q["garment"], q["motion"], q["body"])
+                mean_r = ratio(q.get("positive_energy"), ref.get("positive_energy"))
+                max_r = ratio(q.get("max_positive_energy"), ref.get("max_positive_energy"))
+                out.append([label, case, str(level["level"]), name, "%d / %d" % (q["frames"], ref["frames"]), mean_r,
+                            max_r, percent(q.get("penetrating_fraction")), percent(q.get("max_penetrating_fraction")),
+                            mm(q.get("max_penetration_mm")), mm(ref.get("max_penetration_mm")), diverged(q),
+                            diverged(ref)])
+                s["cases"] += 1
+                s["diverged"] += bool(q.get("diverged"))
+                for k, v in (("mean_ratio", mean_r), ("max_ratio", max_r)):
+                    try:
+                        s[k] = max(s[k], float(v))
+                    except ValueError:
+                        pass
+                s["inside"] = max(s["inside"], q.get("max_penetrating_fraction") or 0.0)
+                s["depth"] = max(s["depth"], q.get("max_penetration_mm") or 0.0)
+    return out, summary
+
+
+def table(header, rows):
+    lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+    lines += ["| " + " | ".join(r) + " |" for r in rows]
+    return "\n".join(lines)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("runs", nargs="+", help="RUN.json:LABEL")
+    ap.add_argument("--reference", default="Reference", help="the solver's method name in the runs")
+    ap.add_argument("--note", default="", help="a line printed under the title (frames, threads, machine)")
+    a = ap.parse_args()
+    rows, summaries = [], {}
+    for spec in a.runs:
+        path, _, label = spec.rpartition(":") if ":" in spec else (spec, "", spec)
+        with open(path) as f:
+            run = json.load(f)
+        r, s = rows_of(run, label or path, a.reference)
+        rows += r
+        for name, v in s.items():
+            summaries[(label, name)] = v
+    print("# Held-out stability: networks against the reference solver\n")
+    if a.note:
+        print(a.note + "\n")
+    print("E+ = positive energy (stretch + bending + collision, J per frame); ratios are the network's over the "
+          "solver's on the same sequence (mean over each one's measured frames, and largest frame). Inside: share "
+          "of garment vertices inside the body (mean / largest over frames); depth: deepest penetration. "
+          "Frames: measured by the network / by the solver.\n")
+    print(table(["run", "case (garment / motion / body)", "level", "network", "frames", "E+ mean ratio",
+                 "E+ max ratio", "inside mean %", "inside max %", "depth max mm", "solver depth max mm",
+                 "diverged", "solver diverged"], rows))
+    print("\n## Worst case per network\n")
+    print(table(["run", "network", "cases", "diverged", "worst E+ mean ratio", "worst E+ max ratio",
+                 "worst inside %", "deepest mm"],
+                [[label, name, str(v["cases"]), str(v["diverged"]), "%.3g" % v["mean_ratio"], "%.3g" % v["max_ratio"],
+                  percent(v["inside"]), mm(v["depth"])] for (label, name), v in summaries.items()]))
+
+
+if __name__ == "__main__":
+    main()

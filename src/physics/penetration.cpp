@@ -1,0 +1,52 @@
+#include "pb4u/physics/penetration.h"
+
+#include <algorithm>
+
+#include "pb4u/spatial/signed_distance_to_surface.h"
+#include "pb4u/util/error.h"
+
+namespace pb4u {
+
+PenetrationFigures garment_penetration(const Eigen::MatrixXd& garment, const Eigen::MatrixXd& body_V,
+                                       const Eigen::MatrixXi& body_F) {
+  if (garment.rows() == 0 || garment.cols() != 3) throw Error("penetration: the garment has no vertices");
+  if (body_V.rows() == 0 || body_F.rows() == 0) throw Error("penetration: the body has no faces");
+  if (!garment.allFinite()) throw Error("penetration: garment positions are not finite");
+  // Only vertices in the body's bounding box can be inside; far ones would cost the exact
+  // distance query many candidate faces for nothing.
+  const Eigen::RowVector3d lo = body_V.colwise().minCoeff(), hi = body_V.colwise().maxCoeff();
+  std::vector<Eigen::Index> boxed;
+  for (Eigen::Index i = 0; i < garment.rows(); ++i)
+    if ((garment.row(i).array() >= lo.array()).all() && (garment.row(i).array() <= hi.array()).all())
+      boxed.push_back(i);
+  PenetrationFigures out;
+  if (boxed.empty()) return out;
+  Eigen::MatrixXd points(boxed.size(), 3);
+  for (size_t k = 0; k < boxed.size(); ++k) points.row(k) = garment.row(boxed[k]);
+  const Eigen::VectorXd d = signed_distance_to_surface(points, body_V, body_F);
+  const Eigen::Index inside = (d.array() < 0).count();
+  out.penetrating_fraction = double(inside) / double(garment.rows());
+  out.max_penetration_mm = inside > 0 ? -d.minCoeff() * 1e3 : 0.0;
+  return out;
+}
+
+PenetrationSummary summarize_penetration(const std::vector<PenetrationFigures>& frames) {
+  if (frames.empty()) throw Error("penetration: no frame to summarise");
+  // A frame is a one-frame summary.
+  std::vector<PenetrationSummary> each;
+  for (const auto& f : frames) each.push_back({f.penetrating_fraction, f.penetrating_fraction, f.max_penetration_mm});
+  return summarize_penetration(each);
+}
+
+PenetrationSummary summarize_penetration(const std::vector<PenetrationSummary>& sequences) {
+  if (sequences.empty()) throw Error("penetration: no sequence to summarise");
+  PenetrationSummary s;
+  for (const auto& q : sequences) {
+    s.penetrating_fraction += q.penetrating_fraction / double(sequences.size());
+    s.max_penetrating_fraction = std::max(s.max_penetrating_fraction, q.max_penetrating_fraction);
+    s.max_penetration_mm = std::max(s.max_penetration_mm, q.max_penetration_mm);
+  }
+  return s;
+}
+
+}  // namespace pb4u

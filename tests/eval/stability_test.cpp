@@ -1,0 +1,170 @@
+// The held-out stability figures (issue 14) through evaluate and simulate, on the tiny dataset
+// with the shipped model and the reference solver: penetration keys, rows and columns with a
+// body and none without; one result per sequence; the motion split; body-less evaluation
+// pinned by rule; simulate's energy guard from the command line.
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "pb4u/data/dataset.h"
+#include "pb4u/eval/evaluate.h"
+#include "pb4u/sim/point_cache.h"
+#include "pb4u/sim/simulate.h"
+#include "pb4u/util/error.h"
+#include "pb4u/util/runtime.h"
+#include "test_util.h"
+
+namespace pb4u {
+namespace {
+
+const std::string kSource = PB4U_SOURCE_DIR;
+
+const ModelFile& shipped() {
+  static const ModelFile m = [] {
+    configure_threads(1);
+    return load_model_file(kSource + "/data/pretrained/pb4u.h5");
+  }();
+  return m;
+}
+
+EvalConfig tiny_eval(std::vector<std::string> sets) {
+  sets.push_back("dataset=" + test::tiny_dataset());
+  return load_config<EvalConfig>(kSource + "/configs/eval/tiny.yaml", sets);
+}
+
+std::string error_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(Stability, EvaluateReportsPenetrationAndEverySequence) {
+  const EvalConfig config = tiny_eval({"levels=[1]", "max_frames=3", "max_sequences=2"});
+  auto levels = evaluate(config, {{"Pb4U", &shipped()}, {"Reference", nullptr}});
+  ASSERT_EQ(levels.size(), 1u);
+  // One sequence per test motion (at most 2) and garment of each body.
+  const Dataset data = read_dataset(config.dataset);
+  size_t expected = 0;
+  for (const auto& b : data.bodies) {
+    int motions = 0;
+    for (const auto& m : data.motions) motions += m.body == b.body.name && m.split == "test";
+    expected += std::min(motions, 2) * b.garments.size();
+  }
+  for (const MethodResult& m : levels[0].methods) {
+    ASSERT_EQ(m.per_sequence.size(), expected) << m.name;
+    ASSERT_TRUE(m.penetration) << m.name;
+    double mean_fraction = 0, max_fraction = 0, max_mm = 0;
+    for (const SequenceResult& q : m.per_sequence) {
+      EXPECT_EQ(q.body, "mannequin");
+      EXPECT_NE(q.motion, "rest");
+      ASSERT_TRUE(q.penetration) << q.garment << "/" << q.motion;
+      EXPECT_GE(q.penetration->penetrating_fraction, 0.0);
+      EXPECT_LE(q.penetration->penetrating_fraction, q.penetration->max_penetrating_fraction);
+      EXPECT_LE(q.penetration->max_penetrating_fraction, 1.0);
+      EXPECT_GE(q.penetration->max_penetration_mm, 0.0);
+      if (q.penetration->max_penetrating_fraction == 0) EXPECT_EQ(q.penetration->max_penetration_mm, 0.0);
+      ASSERT_TRUE(q.mean);
+      EXPECT_GE(q.max_positive_energy, q.positive_energy);
+      EXPECT_NEAR(q.positive_energy, positive_energy(*q.mean), 1e-12 * (1 + q.positive_energy));
+      mean_fraction += q.penetration->penetrating_fraction / double(expected);
+      max_fraction = std::max(max_fraction, q.penetration->max_penetrating_fraction);
+      max_mm = std::max(max_mm, q.penetration->max_penetration_mm);
+    }
+    EXPECT_NEAR(m.penetration->penetrating_fraction, mean_fraction, 1e-12);
+    EXPECT_EQ(m.penetration->max_penetrating_fraction, max_fraction);
+    EXPECT_EQ(m.penetration->max_penetration_mm, max_mm);
+  }
+  const std::string json = format_json(levels), table = format_table(levels), csv = format_csv(levels);
+  for (const char* key : {"\"penetrating_fraction\": ", "\"max_penetrating_fraction\": ", "\"max_penetration_mm\": ",
+                          "\"sequences\": [{\"body\": \"mannequin\"", "\"positive_energy\": ",
+                          "\"max_positive_energy\": "})
+    EXPECT_NE(json.find(key), std::string::npos) << key << "\n" << json;
+  EXPECT_EQ(json.find("nan"), std::string::npos);
+  EXPECT_NE(table.find("Inside %"), std::string::npos) << table;
+  EXPECT_NE(table.find("Depth max mm"), std::string::npos) << table;
+  EXPECT_NE(csv.find(",Pb4U,"), std::string::npos);
+  EXPECT_NE(csv.find(",max_penetration_mm,"), std::string::npos) << csv;
+  EXPECT_EQ(csv.substr(0, csv.find('\n')), "level,triangles,vertices,method,K,term,value,diverged,diverged_at_frame");
+}
+
+TEST(Stability, EvaluateSelectsMotionsBySplit) {
+  auto count = [](const std::string& split) {
+    auto levels = evaluate(tiny_eval({"levels=[1]", "max_frames=1", "garments=[tshirt]", "split=" + split}),
+                           {{"Pb4U", &shipped()}});
+    return levels[0].methods[0].per_sequence;
+  };
+  const auto test = count("test"), train = count("train");
+  ASSERT_FALSE(test.empty());
+  ASSERT_FALSE(train.empty());
+  for (const auto& q : test)
+    for (const auto& p : train) EXPECT_NE(q.motion, p.motion);
+  // The default is the test split.
+  EXPECT_EQ(tiny_eval({}).split, "test");
+  const std::string why = error_of([&] { count("heldout_nowhere"); });
+  EXPECT_NE(why.find("no motion of split 'heldout_nowhere'"), std::string::npos) << why;
+}
+
+TEST(Stability, BodylessEvaluationHangsEachGarmentFromItsTopBand) {
+  const EvalConfig config =
+      tiny_eval({"levels=[1]", "max_frames=3", "effects=[gravity, pins]", "pins.top_band=0.02"});
+  auto levels = evaluate(config, {{"Pb4U", &shipped()}, {"Reference", nullptr}});
+  for (const MethodResult& m : levels[0].methods) {
+    ASSERT_EQ(m.per_sequence.size(), 2u);  // tiny.yaml's t-shirt and skirt, once each, from rest
+    for (const SequenceResult& q : m.per_sequence) {
+      EXPECT_EQ(q.motion, "rest");
+      EXPECT_FALSE(q.penetration);
+    }
+    EXPECT_FALSE(m.penetration);
+  }
+  EXPECT_EQ(format_json(levels).find("penetrat"), std::string::npos);
+  EXPECT_EQ(format_table(levels).find("Inside"), std::string::npos);
+  // Each rule is required: a pinned set, and a length without a motion.
+  std::string why = error_of([&] { evaluate(tiny_eval({"effects=[gravity, pins]", "max_frames=3"}), {{"P", &shipped()}}); });
+  EXPECT_NE(why.find("pins.top_band"), std::string::npos) << why;
+  why = error_of([&] {
+    evaluate(tiny_eval({"effects=[gravity, pins]", "pins.top_band=0.02", "max_frames=0"}), {{"P", &shipped()}});
+  });
+  EXPECT_NE(why.find("max_frames"), std::string::npos) << why;
+}
+
+TEST(Stability, SimulateWritesPenetrationColumnsWithABody) {
+  SceneConfig s;
+  s.frames = 2;
+  s.garment.dataset = test::tiny_dataset();
+  s.body.dataset = test::tiny_dataset();
+  s.outputs.mesh_format = "none";
+  s.outputs.plot = false;
+  const std::string out = test::temp_dir("sim_penetration");
+  SimulateResult r = simulate(s, "scene.yaml", &shipped(), out);
+  ASSERT_EQ(r.frames, 3);
+  std::ifstream csv(out + "/energies.csv");
+  std::string header, row;
+  std::getline(csv, header);
+  EXPECT_EQ(header, "frame,stretch,bending,collision,inertia,gravity,friction,total,penetrating_fraction,max_penetration_mm");
+  std::getline(csv, row);  // frame 0: not computed
+  EXPECT_EQ(row.substr(row.rfind(',') + 1), "nan");
+  std::getline(csv, row);
+  EXPECT_NE(row.substr(row.rfind(',') + 1), "nan") << row;
+}
+
+TEST(Stability, SimulateStopsOnTheEnergyGuardFromTheCommandLine) {
+  const std::string out = test::temp_dir("sim_energy_guard");
+  // Ratio 1 over a floor of ~0: any frame whose positive energy exceeds frame 1's stops it;
+  // a cloth falling into its pins stretches more every frame.
+  auto r = test::run_pb4u("-q --threads 1 simulate --method reference --scene " + kSource +
+                          "/configs/scenes/hanging_cloth.yaml --set garment.resolution=6 --frames 6 --format none"
+                          " --set divergence.energy_ratio=1 --set divergence.energy_floor=1e-12 --out " + out);
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("diverged at frame 2: positive energy"), std::string::npos) << r.err;
+  EXPECT_EQ(read_pc2(out + "/garment.pc2").size(), 3u);  // frames 0, 1 and the tripping frame 2
+  r = test::run_pb4u("-q simulate --method reference --scene " + kSource +
+                     "/configs/scenes/hanging_cloth.yaml --set divergence.energy_ratio=0.5 --out " + out + "/x");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("divergence.energy_ratio"), std::string::npos) << r.err;
+}
+
+}  // namespace
+}  // namespace pb4u
