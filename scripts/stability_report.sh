@@ -5,17 +5,18 @@
 # the same sequences (scripts/stability_table.py) to runs/stability/report.md and stdout.
 #
 # Usage: scripts/stability_report.sh [--quick] [--out DIR] [--split NAME] [--dataset FILE]
-#                                    [--threads N] [CHECKPOINT ...]
+#                                    [--threads N] [--set KEY=VALUE ...] [CHECKPOINT ...]
 #   CHECKPOINT    networks to evaluate (default data/pretrained/pb4u.h5 data/pretrained/mgn.h5)
 #   --quick       a smoke test: level 1, the t-shirt, one motion, 5 frames (minutes, not hours)
 #   --split NAME  motions of this split instead of "heldout" (e.g. test, for a dataset without it)
 #   --dataset F   another generated dataset (default: the configs', data/generated/quick/quick.h5)
 #   --threads N   torch threads for pb4u (default 1)
+#   --set K=V     any evaluate-config override for both cases, e.g. --set levels=[1] (repeatable)
 # The full run rolls the solver out for 300 frames per sequence: hours on a CPU. Each case's
 # JSON is kept in DIR (body.json, pinned.json) and the report is rebuilt from them.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-out=runs/stability quick=0 split="" dataset="" threads=1 models=()
+out=runs/stability quick=0 split="" dataset="" threads=1 models=() extra=()
 while [ $# -gt 0 ]; do
   case "$1" in
     --quick) quick=1 ;;
@@ -23,7 +24,8 @@ while [ $# -gt 0 ]; do
     --split) split=$2; shift ;;
     --dataset) dataset=$2; shift ;;
     --threads) threads=$2; shift ;;
-    -h|--help) sed -n '2,17p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    --set) extra+=(--set "$2"); shift ;;
+    -h|--help) sed -n '2,16p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     -*) echo "stability_report.sh: unknown option $1" >&2; exit 2 ;;
     *) models+=("$1") ;;
   esac
@@ -37,6 +39,7 @@ sets=()
 [ -n "$split" ] && sets+=(--set "split=$split")
 [ -n "$dataset" ] && sets+=(--set "dataset=$dataset")
 [ $quick = 1 ] && sets+=(--set "levels=[1]" --set "garments=[tshirt]" --set max_sequences=1 --set max_frames=5)
+sets+=("${extra[@]}")
 checkpoints=()
 for m in "${models[@]}"; do checkpoints+=(--checkpoint "$m"); done
 
