@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "pb4u/mesh/edges.h"
+#include "pb4u/mesh/geometry.h"
 #include "pb4u/spatial/point_kd_tree.h"
 #include "pb4u/util/error.h"
 
@@ -21,11 +22,9 @@ Eigen::MatrixXd transfer_skin_weights(const Eigen::MatrixXd& V, const Body& body
 Eigen::MatrixXd smooth_skin_weights(const TriMesh& mesh, const Eigen::MatrixXd& W, double length) {
   if (W.rows() != mesh.V.rows()) throw Error("skin weights: one row per garment vertex expected");
   if (!(length > 0) || mesh.F.rows() == 0) return W;
-  const Eigen::MatrixXi E = unique_edges(mesh.F);
-  double lbar = 0;
-  for (Eigen::Index e = 0; e < E.rows(); ++e) lbar += (mesh.V.row(E(e, 0)) - mesh.V.row(E(e, 1))).norm();
-  lbar /= std::max<Eigen::Index>(E.rows(), 1);
+  const double lbar = mean_edge_length(mesh.V, mesh.F);
   if (!(lbar > 0)) return W;
+  const Eigen::MatrixXi E = unique_edges(mesh.F);
   const int steps = static_cast<int>(std::ceil(2.0 * (length / lbar) * (length / lbar)));
   std::vector<int> degree(W.rows(), 0);
   for (Eigen::Index e = 0; e < E.rows(); ++e) ++degree[E(e, 0)], ++degree[E(e, 1)];

@@ -67,10 +67,14 @@ EnergyReport mean_report(const std::vector<EnergyReport>& reports) {
   return mean;
 }
 
+bool is_positive_term(const std::string& name) {
+  return name == "stretch" || name == "bending" || name == "collision";
+}
+
 double positive_energy(const EnergyReport& report) {
   double e = 0;
-  for (const char* t : {"stretch", "bending", "collision"})
-    if (report.has(t)) e += report.value(t);
+  for (const auto& [name, value] : report.terms)
+    if (is_positive_term(name)) e += value;
   return e;
 }
 

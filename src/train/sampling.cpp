@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numeric>
 
+#include "pb4u/scene/pins.h"
 #include "pb4u/util/error.h"
 
 namespace pb4u {
@@ -52,22 +53,16 @@ Effects sample_effects(const EffectSampling& s, std::mt19937_64& rng) {
 std::vector<int> sample_pinned_vertices(const Eigen::MatrixXd& V, std::mt19937_64& rng) {
   const int n = static_cast<int>(V.rows());
   if (n == 0) throw Error("pins: the garment has no vertices");
+  std::uniform_real_distribution<double> u(0, 1);
+  if (u(rng) < 0.5) return top_band_vertices(V, 0.01 + 0.03 * u(rng));
   std::vector<int> order(n);
   std::iota(order.begin(), order.end(), 0);
   std::sort(order.begin(), order.end(), [&](int a, int b) { return V(a, 1) > V(b, 1); });
-  std::uniform_real_distribution<double> u(0, 1);
-  std::vector<int> pinned;
-  if (u(rng) < 0.5) {
-    const double band = 0.01 + 0.03 * u(rng);
-    for (int i : order)
-      if (V(i, 1) >= V(order[0], 1) - band) pinned.push_back(i);
-  } else {
-    const int top = std::max(1, n / 10);
-    const int points = std::min(top, std::uniform_int_distribution<int>(2, 4)(rng));
-    std::vector<int> candidates(order.begin(), order.begin() + top);
-    std::shuffle(candidates.begin(), candidates.end(), rng);
-    pinned.assign(candidates.begin(), candidates.begin() + points);
-  }
+  const int top = std::max(1, n / 10);
+  const int points = std::min(top, std::uniform_int_distribution<int>(2, 4)(rng));
+  std::vector<int> candidates(order.begin(), order.begin() + top);
+  std::shuffle(candidates.begin(), candidates.end(), rng);
+  std::vector<int> pinned(candidates.begin(), candidates.begin() + points);
   std::sort(pinned.begin(), pinned.end());
   return pinned;
 }

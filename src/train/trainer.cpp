@@ -272,7 +272,7 @@ Trainer::SampleResult Trainer::train_sample(std::mt19937_64& rng, int slot, int 
   TermList terms = build_terms(tr.effects, config_.physics, collision_weight);
   torch::Tensor loss_sum = torch::zeros({}, torch::TensorOptions().device(device_));
   std::vector<double> term_sums(terms.size(), 0.0);
-  double positive_energy = 0;  // of the last step: does the chain stay plausible?
+  double last_positive = 0;  // of the last step: does the chain stay plausible?
   for (int i = 0; i < r; ++i) {
     if (tr.effects.needs_body()) {
       state.body.vertices = matrix_to_tensor(body_now, torch::kFloat32, device_);
@@ -295,13 +295,12 @@ Trainer::SampleResult Trainer::train_sample(std::mt19937_64& rng, int slot, int 
     std::optional<BodyContact> contact = body_contact_for(state, config_.physics);
     auto energies = term_energies(terms, x_next, state, cloth_[gi], contact ? &*contact : nullptr);
     torch::Tensor step_loss = torch::zeros({}, x_next.options());
-    positive_energy = 0;
+    last_positive = 0;
     for (size_t k = 0; k < energies.size(); ++k) {
       step_loss = step_loss + energies[k].second;
       const double v = energies[k].second.item<double>();
       term_sums[k] += v;
-      if (energies[k].first == "stretch" || energies[k].first == "bending" || energies[k].first == "collision")
-        positive_energy += v;
+      if (is_positive_term(energies[k].first)) last_positive += v;
     }
     loss_sum = loss_sum + step_loss.detach();
     step_loss.backward();  // gradients accumulate; the next step starts from a detached state
@@ -320,7 +319,7 @@ Trainer::SampleResult Trainer::train_sample(std::mt19937_64& rng, int slot, int 
     tr.frame += r;
     tr.age += r;
     const bool room = tr.frame + 1 < motion.num_frames() - 1;
-    const bool plausible = std::isfinite(positive_energy) && positive_energy < replay.restart_energy &&
+    const bool plausible = std::isfinite(last_positive) && last_positive < replay.restart_energy &&
                            std::isfinite(result.loss);
     chains_[slot][chain] = room && plausible ? tr : Trajectory{};
   }

@@ -43,5 +43,7 @@ EnergyReport mean_report(const std::vector<EnergyReport>& reports);
 // stability figure: the terms that grow without bound when a rollout blows up (gravity and
 // inertia do not measure a broken cloth).
 double positive_energy(const EnergyReport& report);
+// Whether the term called `name` counts towards the positive energy.
+bool is_positive_term(const std::string& name);
 
 }  // namespace pb4u
