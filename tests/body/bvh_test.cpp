@@ -12,7 +12,7 @@ using namespace pb4u;
 
 namespace {
 
-const std::string kSample = std::string(PB4U_SHARED_DATA) + "/mocap/cmu_131_01.bvh";
+const std::string kSample = std::string(PB4U_MOCAP_DATA) + "/cmu_131_01.bvh";
 
 std::string read_text(const std::string& path) {
   std::ifstream in(path);

@@ -94,7 +94,7 @@ TEST(Mannequin, WeightsAreSmoothAcrossEdges) {
 }
 
 TEST(Mannequin, BvhSkeletonDrivesItsOwnMannequin) {
-  const BvhFile bvh = read_bvh(std::string(PB4U_SHARED_DATA) + "/mocap/cmu_131_01.bvh", 30.0);
+  const BvhFile bvh = read_bvh(std::string(PB4U_MOCAP_DATA) + "/cmu_131_01.bvh", 30.0);
   const Body body = build_mannequin("cmu", bvh.skeleton, small_config());
   expect_closed_genus0(body.mesh);
   EXPECT_GT(signed_volume(body.mesh), 0.0);

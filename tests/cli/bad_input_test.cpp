@@ -20,7 +20,7 @@ namespace fs = std::filesystem;
 
 const std::string kSource = PB4U_SOURCE_DIR;
 const std::string kExport = std::string(PB4U_TEST_DATA) + "/pretrained/pb4u.h5";
-const std::string kBvh = std::string(PB4U_SHARED_DATA) + "/mocap/cmu_131_01.bvh";
+const std::string kBvh = std::string(PB4U_MOCAP_DATA) + "/cmu_131_01.bvh";
 const std::string kMesh = std::string(PB4U_TEST_DATA) + "/meshes/tshirt.obj";
 
 // `args` fails cleanly: exit 1, exactly one line "pb4u: error: ..." naming each of `names`

@@ -159,7 +159,7 @@ TEST(GenerateCommand, WritesDatasetAndConfigAndRefusesToOverwrite) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("garment tank_top"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("motions: 2 (1 train, 1 test)"), std::string::npos) << r.out;
-  r = test::run_pb4u("inspect " + std::string(PB4U_SHARED_DATA) + "/mocap/cmu_131_02.bvh");
+  r = test::run_pb4u("inspect " + std::string(PB4U_MOCAP_DATA) + "/cmu_131_02.bvh");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("frames: 1248"), std::string::npos) << r.out;
   // A bad key is one line naming the file and the key.
@@ -193,7 +193,7 @@ TEST(Generate, BvhMotionsNeedABodyBuiltFromTheirSkeleton) {
   GenerateConfig c = tiny_config();
   c.templates.clear();
   c.procedural.per_kind = 0;
-  const std::string bvh = std::string(PB4U_SHARED_DATA) + "/mocap/cmu_131_01.bvh";
+  const std::string bvh = std::string(PB4U_MOCAP_DATA) + "/cmu_131_01.bvh";
   c.bodies = {BodySpec{"cmu", bvh, ""}};
   c.bvh.body = "cmu";
   c.bvh.files = {bvh};
