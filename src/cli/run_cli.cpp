@@ -67,6 +67,7 @@ int run_cli(int argc, char** argv) {
   add_simulate_command(app, global);
   add_export_command(app, global);
   add_bench_command(app, global);
+  add_score_command(app, global);
 
   try {
     app.parse(argc, argv);

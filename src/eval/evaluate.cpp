@@ -12,6 +12,7 @@
 #include "pb4u/eval/rollout.h"
 #include "pb4u/scene/pins.h"
 #include "pb4u/util/error.h"
+#include "pb4u/util/json_text.h"
 #include "pb4u/util/progress.h"
 
 namespace pb4u {
@@ -38,28 +39,6 @@ std::string sci(double v) {
 std::string fixed2(double v) {
   char s[32];
   std::snprintf(s, sizeof s, "%.2f", v);
-  return s;
-}
-
-std::string json_string(const std::string& s) {
-  std::string out = "\"";
-  for (char c : s) {
-    if (c == '"' || c == '\\') out += '\\';
-    if (static_cast<unsigned char>(c) < 0x20) {
-      char e[8];
-      std::snprintf(e, sizeof e, "\\u%04x", c);
-      out += e;
-      continue;
-    }
-    out += c;
-  }
-  return out + "\"";
-}
-
-std::string json_number(double v) {
-  if (!std::isfinite(v)) return "null";
-  char s[32];
-  std::snprintf(s, sizeof s, "%.9g", v);
   return s;
 }
 

@@ -27,6 +27,16 @@ RolloutWriter::RolloutWriter(std::string out_dir, Eigen::MatrixXi garment_faces,
     throw Error("outputs.mesh_format: must be obj | ply | none, got '" + outputs_.mesh_format + "'");
 }
 
+void RolloutWriter::set_rest_and_previous(const Eigen::MatrixXd& rest, const Eigen::MatrixXd& previous) {
+  rest_ = rest;
+  previous_ = previous;
+  if (outputs_.mesh_format != "none") {
+    const std::string path = dir_ + "/garment_rest." + outputs_.mesh_format;
+    write_mesh(path, TriMesh{rest, garment_faces_});
+    written_.push_back(path);
+  }
+}
+
 void RolloutWriter::add_frame(const Eigen::MatrixXd& garment, const Eigen::MatrixXd& body,
                               const std::vector<std::pair<std::string, double>>& energies) {
   const int frame = num_frames();
@@ -59,19 +69,29 @@ namespace {
 void write_frames_dataset(H5::Group& group, const std::vector<Eigen::MatrixXd>& frames,
                           const Eigen::MatrixXi& faces) {
   const hsize_t T = frames.size(), n = T ? frames[0].rows() : 0;
-  std::vector<float> pos(T * n * 3);
+  std::vector<double> pos(T * n * 3);
   for (hsize_t t = 0; t < T; ++t)
     for (hsize_t v = 0; v < n; ++v)
-      for (int k = 0; k < 3; ++k) pos[(t * n + v) * 3 + k] = static_cast<float>(frames[t](v, k));
+      for (int k = 0; k < 3; ++k) pos[(t * n + v) * 3 + k] = frames[t](v, k);
   hsize_t dims[3] = {T, n, 3};
-  group.createDataSet("positions", H5::PredType::NATIVE_FLOAT, H5::DataSpace(3, dims))
-      .write(pos.data(), H5::PredType::NATIVE_FLOAT);
+  group.createDataSet("positions", H5::PredType::NATIVE_DOUBLE, H5::DataSpace(3, dims))
+      .write(pos.data(), H5::PredType::NATIVE_DOUBLE);
   std::vector<int32_t> f(static_cast<size_t>(faces.rows()) * 3);
   for (Eigen::Index i = 0; i < faces.rows(); ++i)
     for (int k = 0; k < 3; ++k) f[i * 3 + k] = faces(i, k);
   hsize_t fdims[2] = {static_cast<hsize_t>(faces.rows()), 3};
   group.createDataSet("faces", H5::PredType::NATIVE_INT32, H5::DataSpace(2, fdims))
       .write(f.data(), H5::PredType::NATIVE_INT32);
+}
+
+// n x 3 float64 positions as group/name.
+void write_positions(H5::Group& group, const std::string& name, const Eigen::MatrixXd& x) {
+  std::vector<double> buf(static_cast<size_t>(x.rows()) * 3);
+  for (Eigen::Index v = 0; v < x.rows(); ++v)
+    for (int k = 0; k < 3; ++k) buf[v * 3 + k] = x(v, k);
+  hsize_t dims[2] = {static_cast<hsize_t>(x.rows()), 3};
+  group.createDataSet(name, H5::PredType::NATIVE_DOUBLE, H5::DataSpace(2, dims))
+      .write(buf.data(), H5::PredType::NATIVE_DOUBLE);
 }
 
 }  // namespace
@@ -111,6 +131,8 @@ std::vector<std::string> RolloutWriter::finish() {
       H5::H5File file(tmp, H5F_ACC_TRUNC);
       H5::Group g = file.createGroup("garment");
       write_frames_dataset(g, garment_frames_, garment_faces_);
+      if (rest_.rows()) write_positions(g, "rest", rest_);
+      if (previous_.rows()) write_positions(g, "previous", previous_);
       if (has_body) {
         H5::Group b = file.createGroup("body");
         write_frames_dataset(b, body_frames_, body_faces_);

@@ -74,6 +74,7 @@ SimulateResult simulate(const SceneConfig& scene, const std::string& scene_path,
     zero.emplace_back("max_penetration_mm", nan);
   }
   const Eigen::MatrixXd none;
+  writer.set_rest_and_previous(setup.garment.V, setup.x_prev);
   writer.add_frame(setup.x0, body_written ? setup.body[0] : none, zero);
 
   Progress bar("simulate", scene.frames, "frame");

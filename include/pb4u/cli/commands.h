@@ -21,6 +21,7 @@ void add_evaluate_command(CLI::App& app, const GlobalOptions& global);
 void add_simulate_command(CLI::App& app, const GlobalOptions& global);
 void add_export_command(CLI::App& app, const GlobalOptions& global);
 void add_bench_command(CLI::App& app, const GlobalOptions& global);
+void add_score_command(CLI::App& app, const GlobalOptions& global);
 
 // Builds the app, parses, runs the chosen subcommand; returns the exit status. Every
 // failure is one line on stderr: "pb4u: error: <file or key>: <reason>".

@@ -1,7 +1,7 @@
 #pragma once
 // Everything `simulate` writes, frame by frame: garment (and body) meshes per frame as OBJ
-// or PLY, a PC2 point cache per mesh, one HDF5 with all frames, and per-frame energies as
-// CSV. Each file is written atomically; finish() can run after a failure and keeps every
+// or PLY, a PC2 point cache per mesh, one HDF5 with all frames (float64), and per-frame
+// energies as CSV. Each file is written atomically; finish() can run after a failure and keeps every
 // frame written so far.
 #include <Eigen/Core>
 #include <string>
@@ -29,6 +29,11 @@ class RolloutWriter {
   void add_frame(const Eigen::MatrixXd& garment, const Eigen::MatrixXd& body,
                  const std::vector<std::pair<std::string, double>>& energies);
 
+  // The garment's rest shape and its positions one frame before frame 0: what a scorer needs
+  // besides the frames (`pb4u score`). Written as garment_rest.<obj|ply> now (unless the
+  // mesh format is none) and into rollout.h5 (garment/rest, garment/previous) by finish().
+  void set_rest_and_previous(const Eigen::MatrixXd& rest, const Eigen::MatrixXd& previous);
+
   // Writes the point caches, the HDF5 and the CSV for the frames added so far. Returns the
   // list of files written (per-frame meshes included).
   std::vector<std::string> finish();
@@ -40,6 +45,7 @@ class RolloutWriter {
   Eigen::MatrixXi garment_faces_, body_faces_;
   RolloutOutputs outputs_;
   std::vector<Eigen::MatrixXd> garment_frames_, body_frames_;
+  Eigen::MatrixXd rest_, previous_;
   std::vector<std::string> energy_names_;
   std::vector<std::vector<double>> energies_;
   std::vector<std::string> written_;

@@ -1,0 +1,178 @@
+#include "pb4u/eval/score.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <memory>
+#include <sstream>
+
+#include "pb4u/eval/rollout.h"
+#include "pb4u/util/eigen_tensor.h"
+#include "pb4u/util/error.h"
+#include "pb4u/util/json_text.h"
+
+namespace pb4u {
+
+namespace {
+
+std::vector<std::string> columns(const ScoreResult& r) {
+  std::vector<std::string> names;
+  if (!r.reports.empty())
+    for (const auto& t : r.reports[0].terms) names.push_back(t.first);
+  names.push_back("total");
+  if (!r.penetration.empty()) {
+    names.push_back("penetrating_fraction");
+    names.push_back("max_penetration_mm");
+  }
+  return names;
+}
+
+std::vector<double> row(const ScoreResult& r, size_t i) {
+  std::vector<double> v;
+  for (const auto& t : r.reports[i].terms) v.push_back(t.second);
+  v.push_back(r.reports[i].total);
+  if (!r.penetration.empty()) {
+    v.push_back(r.penetration[i].penetrating_fraction);
+    v.push_back(r.penetration[i].max_penetration_mm);
+  }
+  return v;
+}
+
+std::string g9(double v) {
+  char s[32];
+  std::snprintf(s, sizeof s, "%.9g", v);
+  return s;
+}
+
+}  // namespace
+
+ScoreResult score_sequence(const ScoreInput& in) {
+  const Eigen::Index n = in.garment_rest.V.rows();
+  const int T = static_cast<int>(in.frames.size());
+  if (T < 2) throw Error("score: " + std::to_string(T) + " frame(s) given; at least 2 are needed (frame 0 is the start)");
+  for (int t = 0; t < T; ++t)
+    if (in.frames[t].rows() != n || in.frames[t].cols() != 3)
+      throw Error("score: frame " + std::to_string(t) + " has " + std::to_string(in.frames[t].rows()) +
+                  " vertices, the rest mesh " + std::to_string(n));
+  if (in.previous.size() && in.previous.rows() != n)
+    throw Error("score: the previous frame has " + std::to_string(in.previous.rows()) + " vertices, the rest mesh " +
+                std::to_string(n));
+  if (!in.body.empty() && int(in.body.size()) != T)
+    throw Error("score: " + std::to_string(in.body.size()) + " body frames for " + std::to_string(T) +
+                " garment frames (one body frame per garment frame is needed)");
+  if (in.effects.needs_body() && in.body.empty())
+    throw Error("score: collision and friction need a body (give its frames, or drop those effects)");
+  for (size_t t = 0; t < in.body.size(); ++t)
+    if (in.body[t].rows() != in.body[0].rows() || (in.body_faces.size() && in.body_faces.maxCoeff() >= in.body[t].rows()))
+      throw Error("score: body frame " + std::to_string(t) + " does not match the body mesh (" +
+                  std::to_string(in.body[t].rows()) + " vertices)");
+
+  RolloutInput rollout;
+  rollout.garment_rest = in.garment_rest;
+  rollout.x0 = in.frames[0];
+  rollout.x_prev = in.previous.size() ? in.previous : in.frames[0];
+  rollout.body = in.body;
+  rollout.body_faces = in.body_faces;
+  rollout.effects = in.effects;
+  rollout.effects.pins = false;  // pins constrain a stepper; the recorded frames already obey them
+  rollout.material = in.material;
+  rollout.metric_material = in.material;
+  rollout.steps = T - 1;
+  rollout.dt = in.dt;
+  rollout.divergence.energy_ratio = 0;  // a score measures what it is given, whatever it is
+
+  // The "stepper" replays the recorded frames, so the energies are run_rollout's own.
+  auto next = std::make_shared<int>(1);
+  const std::vector<Eigen::MatrixXd>* frames = &in.frames;
+  StepFunction replay = [next, frames](const FrameState&, const ClothGeometry&, const TermList&,
+                                       const BodyContact*) { return matrix_to_tensor((*frames)[(*next)++]); };
+  RolloutResult r = run_rollout(rollout, replay, in.physics);
+
+  ScoreResult result;
+  result.frames = T;
+  result.reports = r.reports;
+  result.penetration = r.penetration;
+  if (r.diverged) result.nonfinite_at_frame = r.diverged_at_frame;
+  if (!result.reports.empty()) {
+    result.mean = mean_report(result.reports);
+    for (const auto& rep : result.reports) {
+      const double p = positive_energy(rep);
+      result.positive_mean += p / result.reports.size();
+      result.positive_max = std::max(result.positive_max, p);
+    }
+  }
+  if (!result.penetration.empty()) result.penetration_summary = summarize_penetration(result.penetration);
+  return result;
+}
+
+std::string score_csv(const ScoreResult& r) {
+  std::ostringstream out;
+  const auto names = columns(r);
+  out << "frame";
+  for (const auto& c : names) out << ',' << c;
+  out << "\n0";
+  for (size_t k = 0; k < names.size(); ++k) out << ",nan";
+  out << '\n';
+  for (size_t i = 0; i < r.reports.size(); ++i) {
+    out << i + 1;
+    for (double v : row(r, i)) out << ',' << g9(v);
+    out << '\n';
+  }
+  return out.str();
+}
+
+std::string score_json(const ScoreResult& r) {
+  std::ostringstream out;
+  out << "{\"frames\": " << r.frames << ", \"scored_frames\": " << r.reports.size() << ", \"mean\": {";
+  for (const auto& t : r.mean.terms) out << json_string(t.first) << ": " << json_number(t.second) << ", ";
+  out << "\"total\": " << json_number(r.reports.empty() ? NAN : r.mean.total) << "}";
+  out << ", \"positive_mean\": " << json_number(r.positive_mean) << ", \"positive_max\": " << json_number(r.positive_max);
+  if (!r.penetration.empty()) {
+    out << ", \"penetrating_fraction\": " << json_number(r.penetration_summary.penetrating_fraction)
+        << ", \"max_penetrating_fraction\": " << json_number(r.penetration_summary.max_penetrating_fraction)
+        << ", \"max_penetration_mm\": " << json_number(r.penetration_summary.max_penetration_mm);
+  }
+  out << ", \"nonfinite_at_frame\": " << (r.nonfinite_at_frame < 0 ? "null" : std::to_string(r.nonfinite_at_frame));
+  out << ", \"per_frame\": [";
+  const auto names = columns(r);
+  for (size_t i = 0; i < r.reports.size(); ++i) {
+    out << (i ? ", " : "") << "{\"frame\": " << i + 1;
+    const auto v = row(r, i);
+    for (size_t k = 0; k < names.size(); ++k) out << ", " << json_string(names[k]) << ": " << json_number(v[k]);
+    out << "}";
+  }
+  out << "]}\n";
+  return out.str();
+}
+
+std::string score_table(const ScoreResult& r, const std::string& title) {
+  std::ostringstream out;
+  char line[160];
+  out << title << ": " << r.frames << " frames, " << r.reports.size() << " scored (frame 0 is the start)\n";
+  if (r.nonfinite_at_frame >= 0)
+    out << "  frame " << r.nonfinite_at_frame << " is not finite: the figures stop before it\n";
+  std::snprintf(line, sizeof line, "  %-22s %14s %14s\n", "term", "mean J/frame", "max J/frame");
+  out << line;
+  for (size_t k = 0; k < r.mean.terms.size(); ++k) {
+    double mx = -std::numeric_limits<double>::infinity();
+    for (const auto& rep : r.reports) mx = std::max(mx, rep.terms[k].second);
+    std::snprintf(line, sizeof line, "  %-22s %14.6g %14.6g\n", r.mean.terms[k].first.c_str(), r.mean.terms[k].second, mx);
+    out << line;
+  }
+  double total_max = -std::numeric_limits<double>::infinity();
+  for (const auto& rep : r.reports) total_max = std::max(total_max, rep.total);
+  std::snprintf(line, sizeof line, "  %-22s %14.6g %14.6g\n", "total", r.mean.total, total_max);
+  out << line;
+  std::snprintf(line, sizeof line, "  %-22s %14.6g %14.6g\n", "positive (s+b+c)", r.positive_mean, r.positive_max);
+  out << line;
+  if (!r.penetration.empty()) {
+    std::snprintf(line, sizeof line, "  inside the body: mean %.2f%%, max %.2f%% of vertices; deepest %.2f mm\n",
+                  100 * r.penetration_summary.penetrating_fraction,
+                  100 * r.penetration_summary.max_penetrating_fraction, r.penetration_summary.max_penetration_mm);
+    out << line;
+  }
+  return out.str();
+}
+
+}  // namespace pb4u
