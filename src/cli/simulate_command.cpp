@@ -17,10 +17,12 @@ void add_simulate_command(CLI::App& app, const GlobalOptions& global) {
       "simulate",
       "Roll a scene (configs/scenes/*.yaml) out with the network or the reference solver and\n"
       "write per-frame garment/body meshes (OBJ or PLY), PC2 point caches (Blender: Mesh Cache\n"
-      "modifier on garment_0000.obj), rollout.h5, energies.csv and energies.png.");
+      "modifier on garment_0000.obj), garment_rest.obj, rollout.h5, energies.csv, energies.png\n"
+      "and preview.png (a contact sheet: front and side views, vertices inside the body in red).\n"
+      "Ends with a one-line summary: positive energy, share inside the body, time per frame.");
   struct Args {
     std::string device = "cpu";
-    std::string checkpoint, scene, out, method = "net", format;
+    std::string checkpoint, scene, out, method = "net", format, preview;
     int frames = 0;
     std::vector<std::string> sets;
   };
@@ -32,6 +34,8 @@ void add_simulate_command(CLI::App& app, const GlobalOptions& global) {
   cmd->add_option("--frames", args->frames, "Frames to simulate (overrides the scene's)")->check(CLI::PositiveNumber);
   cmd->add_option("--format", args->format, "Per-frame meshes: obj | ply | none (overrides the scene's)")
       ->check(CLI::IsMember({"obj", "ply", "none"}));
+  cmd->add_option("--preview", args->preview, "preview.png contact sheet: on | off (overrides the scene's)")
+      ->check(CLI::IsMember({"on", "off"}));
   cmd->add_option("--set", args->sets, "Override a scene key, e.g. --set material.mu=30000 (repeatable)");
   cmd->add_option("--device", args->device, "Where the network runs: cpu | cuda | cuda:N (metrics stay on the CPU)");
   cmd->callback([args, &global] {
@@ -39,6 +43,7 @@ void add_simulate_command(CLI::App& app, const GlobalOptions& global) {
     std::vector<std::string> sets = args->sets;
     if (args->frames > 0) sets.push_back("frames=" + std::to_string(args->frames));
     if (!args->format.empty()) sets.push_back("outputs.mesh_format=" + args->format);
+    if (!args->preview.empty()) sets.push_back(std::string("outputs.preview=") + (args->preview == "on" ? "true" : "false"));
     const SceneConfig scene = load_config<SceneConfig>(args->scene, sets);
     std::optional<ModelFile> model;
     if (args->method == "net") {
@@ -47,7 +52,13 @@ void add_simulate_command(CLI::App& app, const GlobalOptions& global) {
       model->model->to(resolve_device(args->device, "--device"));
     }
     SimulateResult r = simulate(scene, args->scene, model ? &*model : nullptr, args->out);
-    spdlog::info("wrote {} frames and {} files to {}", r.frames, r.files.size(), args->out);
+    std::string inside;
+    if (r.with_body)
+      inside = fmt::format("; inside the body mean {:.2f}%, max {:.2f}% (deepest {:.1f} mm)", 100 * r.penetrating_mean,
+                           100 * r.penetrating_max, r.deepest_mm);
+    spdlog::info("{} frames: positive energy mean {:.4g} J, max {:.4g} J{}; {:.1f} ms per frame ({}); {} files in {}",
+                 r.frames - 1, r.positive_mean, r.positive_max, inside, r.step_ms_mean,
+                 model ? "network step" : "solver step", r.files.size(), args->out);
     if (r.diverged)
       throw Error(args->scene + ": diverged at frame " + std::to_string(r.diverged_at_frame) + ": " +
                   r.diverged_reason + " (vertex " + std::to_string(r.worst_vertex) +

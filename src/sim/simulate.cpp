@@ -7,6 +7,7 @@
 
 #include "pb4u/eval/rollout.h"
 #include "pb4u/util/atomic_file.h"
+#include "pb4u/sim/preview.h"
 #include "pb4u/util/plot_script.h"
 #include "pb4u/util/progress.h"
 
@@ -101,8 +102,30 @@ SimulateResult simulate(const SceneConfig& scene, const std::string& scene_path,
   result.diverged_at_frame = r.diverged_at_frame;
   result.diverged_reason = r.diverged_reason;
   result.worst_vertex = r.worst_vertex;
+  result.with_body = body_written;
+  for (const auto& rep : r.reports) {
+    const double p = positive_energy(rep);
+    result.positive_mean += p / r.reports.size();
+    result.positive_max = std::max(result.positive_max, p);
+  }
+  if (!r.penetration.empty()) {
+    const PenetrationSummary s = summarize_penetration(r.penetration);
+    result.penetrating_mean = s.penetrating_fraction;
+    result.penetrating_max = s.max_penetrating_fraction;
+    result.deepest_mm = s.max_penetration_mm;
+  }
+  for (double ms : r.step_ms) result.step_ms_mean += ms / r.step_ms.size();
   if (scene.outputs.plot && scene.outputs.energies_csv && writer.num_frames() > 1)
     plot_energies(out_dir + "/energies.csv", out_dir + "/energies.png", &result.files);
+  if (scene.outputs.preview && writer.num_frames() > 0) {
+    const std::string png = out_dir + "/preview.png";
+    const std::string title = fs::path(scene_path).filename().string() + ": " +
+                              (model ? method_name(model->config) : std::string("reference solver")) +
+                              (r.diverged ? ", diverged at frame " + std::to_string(r.diverged_at_frame) : "");
+    if (write_preview(png, preview_frames(writer.num_frames()), writer.garment_frames(), setup.garment.F,
+                      writer.body_frames(), body_written ? setup.body_faces : Eigen::MatrixXi(), title))
+      result.files.push_back(png);
+  }
   return result;
 }
 

@@ -13,6 +13,7 @@
 #include "pb4u/io/frame_sequence.h"
 #include "pb4u/io/mesh_io.h"
 #include "pb4u/sim/point_cache.h"
+#include "pb4u/sim/preview.h"
 #include "pb4u/sim/simulate.h"
 #include "pb4u/util/error.h"
 #include "test_util.h"
@@ -21,6 +22,7 @@ namespace pb4u {
 namespace {
 
 namespace fs = std::filesystem;
+const std::string kSource = PB4U_SOURCE_DIR;
 
 std::vector<std::vector<std::string>> read_csv(const std::string& path) {
   std::ifstream in(path);
@@ -203,6 +205,31 @@ TEST(Score, BadInputsFailInOneLineNamingTheFile) {
     EXPECT_NE(run.err.find(c.needle), std::string::npos) << c.args << "\n" << run.err;
     EXPECT_EQ(std::count(run.err.begin(), run.err.end(), '\n'), 1) << run.err;
   }
+}
+
+TEST(Preview, FramesSpreadOverTheRolloutFirstAndLastIncluded) {
+  EXPECT_EQ(preview_frames(61), (std::vector<int>{0, 20, 40, 60}));
+  EXPECT_EQ(preview_frames(3), (std::vector<int>{0, 1, 2}));
+  EXPECT_EQ(preview_frames(1), (std::vector<int>{0}));
+  EXPECT_TRUE(preview_frames(0).empty());
+}
+
+// simulate writes preview.png (the rollout above has a body) unless told not to.
+TEST(Preview, SimulateWritesAContactSheetUnlessOff) {
+  const std::string dir = simulated_walk("preview_on");
+  if (std::system("/usr/bin/python3 -c 'import matplotlib' 2>/dev/null") != 0)
+    GTEST_SKIP() << "no matplotlib under /usr/bin/python3 (scripts/install_deps.sh installs it)";
+  ASSERT_TRUE(fs::exists(dir + "/sim/preview.png"));
+  std::ifstream png(dir + "/sim/preview.png", std::ios::binary);
+  char magic[4] = {};
+  png.read(magic, 4);
+  EXPECT_EQ(std::string(magic + 1, 3), "PNG");
+  EXPECT_GT(fs::file_size(dir + "/sim/preview.png"), 10000u);  // panels, not an empty figure
+  auto off = test::run_pb4u("-q simulate --method reference --scene " + kSource + "/configs/scenes/hanging_cloth.yaml"
+                            " --set garment.resolution=6 --frames 2 --format none --preview off --out " + dir + "/off");
+  ASSERT_EQ(off.exit_code, 0) << off.err;
+  EXPECT_TRUE(fs::exists(dir + "/off/energies.csv"));
+  EXPECT_FALSE(fs::exists(dir + "/off/preview.png"));
 }
 
 }  // namespace

@@ -39,6 +39,8 @@ class RolloutWriter {
   std::vector<std::string> finish();
 
   int num_frames() const { return static_cast<int>(garment_frames_.size()); }
+  const std::vector<Eigen::MatrixXd>& garment_frames() const { return garment_frames_; }
+  const std::vector<Eigen::MatrixXd>& body_frames() const { return body_frames_; }
 
  private:
   std::string dir_;

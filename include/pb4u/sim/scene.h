@@ -76,9 +76,11 @@ struct ScenePins {
 struct SceneOutputs {
   std::string mesh_format = "obj";  // obj | ply | none
   bool point_cache = true, hdf5 = true, energies_csv = true, plot = true;
+  bool preview = true;  // preview.png: a contact sheet of the garment (and body)
   template <class V>
   void visit(V& v) {
     v("mesh_format", mesh_format, one_of({"obj", "ply", "none"}));
+    v("preview", preview);
     v("point_cache", point_cache);
     v("hdf5", hdf5);
     v("energies_csv", energies_csv);

@@ -17,6 +17,12 @@ struct SimulateResult {
   std::string diverged_reason;     // RolloutResult::diverged_reason
   int worst_vertex = -1;
   std::vector<std::string> files;  // everything written
+  // Per-sequence figures over the measured frames (1..): positive energy (J), with a body the
+  // share of garment vertices inside it, and the stepper's wall time per frame (ms).
+  double positive_mean = 0, positive_max = 0;
+  bool with_body = false;
+  double penetrating_mean = 0, penetrating_max = 0, deepest_mm = 0;
+  double step_ms_mean = 0;
   std::vector<std::string> terms;  // the energy terms (energies.csv also has total and, with a
                                    // body, penetrating_fraction and max_penetration_mm)
 };
