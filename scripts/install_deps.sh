@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Installs the Debian packages pb4u builds and runs with, if any is missing.
 # Quiet when everything is there. Needs root (apt-get); otherwise prints the command.
+#   scripts/install_deps.sh            what pb4u builds and runs with
+#   scripts/install_deps.sh --blender  also Blender (~300 MB), for bench's Blender rows
 set -euo pipefail
 
 PACKAGES=(
@@ -16,6 +18,12 @@ PACKAGES=(
   # Plots (docs, bench, training curves) use Debian's matplotlib with /usr/bin/python3.
   python3-matplotlib
 )
+for arg in "$@"; do
+  case $arg in
+    --blender) PACKAGES+=(blender) ;;
+    *) echo "usage: scripts/install_deps.sh [--blender]" >&2; exit 2 ;;
+  esac
+done
 
 missing=()
 for p in "${PACKAGES[@]}"; do

@@ -79,6 +79,13 @@ def loss_vs_latency(rows, levels, out):
             for r in ref:
                 ax.annotate(f"{r['iterations']} it", (r["latency_ms_median"], r["physics_loss"]),
                             fontsize=7, xytext=(3, 3), textcoords="offset points")
+        bl = sorted((r for r in here if r["family"] == "blender"), key=lambda r: r["iterations"])
+        if bl:
+            ax.plot([r["latency_ms_median"] for r in bl], [r["physics_loss"] for r in bl], "^-",
+                    color="tab:orange", label="Blender cloth")
+            for r in bl:
+                ax.annotate(f"q{r['iterations']}", (r["latency_ms_median"], r["physics_loss"]),
+                            fontsize=7, xytext=(3, -9), textcoords="offset points")
         fk = sorted((r for r in here if r["family"] == "fixed_k"), key=lambda r: r["K"])
         if fk:
             ax.plot([r["latency_ms_median"] for r in fk], [r["physics_loss"] for r in fk], ".:",

@@ -93,9 +93,13 @@ ScoreInput score_input(const ScoreArgs& a) {
     throw Error(a.frames + ": " + std::to_string(in.frames[0].rows()) + " vertices per frame, but the rest mesh " +
                 (a.garment.empty() ? std::string("") : a.garment + " ") + "has " +
                 std::to_string(in.garment_rest.V.rows()));
-  if (!in.body.empty() && int(in.body.size()) != T)
+  if (!in.body.empty() && int(in.body.size()) < T)
     throw Error((a.body_frames.empty() ? a.frames : a.body_frames) + ": " + std::to_string(in.body.size()) +
                 " body frames for " + std::to_string(T) + " garment frames");
+  if (int(in.body.size()) > T) {
+    spdlog::info("{}: scoring against the first {} of its {} frames", a.body_frames, T, in.body.size());
+    in.body.resize(T);
+  }
   return in;
 }
 

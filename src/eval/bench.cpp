@@ -7,11 +7,15 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <sstream>
+
+#include <unistd.h>
 
 #include "pb4u/data/dataset.h"
 #include "pb4u/eval/evaluate.h"
 #include "pb4u/eval/rollout.h"
+#include "pb4u/eval/score.h"
 #include "pb4u/graph/build_graph.h"
 #include "pb4u/graph/world_edges.h"
 #include "pb4u/model/euler_step.h"
@@ -22,6 +26,7 @@
 #include "pb4u/util/runtime.h"
 
 namespace pb4u {
+namespace fs = std::filesystem;
 namespace {
 
 using Clock = std::chrono::steady_clock;
@@ -236,6 +241,52 @@ BenchRow run_one(const Run& run, const RolloutInput& body_input, const RolloutIn
   return row;
 }
 
+// Blender's cloth on the level's body input, scored with pb4u's terms (eval/score.h). The
+// cloth starts at rest (Blender takes no start velocity), so it is scored from rest too.
+BenchRow run_blender(const std::string& blender, int quality, const RolloutInput& in, const BenchConfig& config,
+                     int level) {
+  const std::string work = (fs::temp_directory_path() / ("pb4u_blender_" + std::to_string(::getpid()) + "_lv" +
+                                                         std::to_string(level) + "_q" + std::to_string(quality)))
+                               .string();
+  const BlenderRollout b = run_blender_cloth(in, blender, quality, config.blender.collision_distance, work);
+  BenchRow row;
+  row.method = "Blender (quality " + std::to_string(quality) + ")";
+  row.family = "blender";
+  row.iterations = quality;
+  row.threads = 1;
+  std::vector<double> latency;
+  const size_t skip = b.frame_ms.size() > size_t(config.warmup_frames) ? size_t(config.warmup_frames) : 0;
+  latency.assign(b.frame_ms.begin() + skip, b.frame_ms.end());
+  row.latency_ms_median = median(latency);
+  row.latency_ms_min = latency.empty() ? NAN : *std::min_element(latency.begin(), latency.end());
+  ScoreInput score;
+  score.garment_rest = in.garment_rest;
+  score.frames = b.frames;
+  score.body = in.effects.needs_body() ? std::vector<Eigen::MatrixXd>(in.body.begin(), in.body.begin() + b.frames.size())
+                                       : std::vector<Eigen::MatrixXd>();
+  score.body_faces = in.body_faces;
+  score.effects = in.effects;
+  score.material = in.metric_material;
+  score.physics = config.physics;
+  score.dt = in.dt;
+  const ScoreResult r = score_sequence(score);
+  row.frames = int(r.reports.size());
+  row.diverged = r.nonfinite_at_frame >= 0;
+  row.diverged_at_frame = r.nonfinite_at_frame;
+  if (r.reports.empty()) {
+    row.physics_loss = row.positive_loss = NAN;
+    return row;
+  }
+  row.physics_loss = r.mean.total;
+  row.terms = r.mean.terms;
+  row.positive_loss = positive_energy(r.mean);
+  if (!r.penetration.empty()) row.penetration = r.penetration_summary;
+  std::error_code ec;  // the work folder is kept on failure only
+  for (const auto& entry : fs::directory_iterator(work, ec)) fs::remove(entry.path(), ec);
+  fs::remove(work, ec);
+  return row;
+}
+
 const MotionRecord& find_motion(const Dataset& data, const BenchConfig& config) {
   for (const auto& m : data.motions)
     if (config.motion.empty() ? m.split == "test" : m.name == config.motion) {
@@ -301,6 +352,16 @@ BenchResult run_bench(const BenchConfig& config, const std::function<void(const 
   DenseMatmul matmul(config.matmul_size);
   result.matmul_gflops = matmul.median_gflops(7);
 
+  std::string blender;
+  if (config.blender.enabled != "off" && !config.blender.qualities.empty()) {
+    blender = find_blender(config.blender.executable);
+    if (blender.empty() && config.blender.enabled == "on")
+      throw Error("blender.executable: '" + config.blender.executable + "' not found (install Blender or set blender.enabled: off)");
+    if (blender.empty()) spdlog::info("bench: Blender ('{}') not found on PATH: no Blender rows", config.blender.executable);
+  }
+  for (int q : config.blender.qualities)
+    if (q < 1) throw Error("blender.qualities: Blender's steps per frame must be at least 1");
+
   for (int level : config.levels) {
     if (level < 1 || level > int(garment->levels.size()))
       throw Error("levels: level " + std::to_string(level) + " is not in " + config.dataset + " (it has " +
@@ -326,7 +387,8 @@ BenchResult run_bench(const BenchConfig& config, const std::function<void(const 
                         "no_body", nullptr, -1, config.reference_iterations.back(), false});
     }
     const int stage_runs = int(models.size()) + (config.no_body_variant && effects.needs_body() && !models.empty());
-    Progress bar("Lv." + std::to_string(level), int64_t(runs.size()) + stage_runs, "run");
+    const int blender_runs = blender.empty() ? 0 : int(config.blender.qualities.size());
+    Progress bar("Lv." + std::to_string(level), int64_t(runs.size()) + stage_runs + blender_runs, "run");
     for (const Run& run : runs) {
       const auto run_start = Clock::now();
       BenchRow row = run_one(run, body_input, free_input, topology, config);
@@ -339,6 +401,14 @@ BenchResult run_bench(const BenchConfig& config, const std::function<void(const 
       row.threads = result.threads;
       result.rows.push_back(std::move(row));
       bar.step(1, run.method);
+    }
+    for (int q = 0; q < blender_runs; ++q) {
+      BenchRow row = run_blender(blender, config.blender.qualities[q], body_input, config, level);
+      row.level = level;
+      row.triangles = g.mesh.F.rows();
+      row.vertices = g.mesh.V.rows();
+      bar.step(1, row.method);
+      result.rows.push_back(std::move(row));
     }
     auto add_stages = [&](const ModelFile& m, const std::string& name, const RolloutInput& in) {
       Pb4uNet net = m.model;
@@ -353,7 +423,7 @@ BenchResult run_bench(const BenchConfig& config, const std::function<void(const 
       add_stages(models[0], names[0] + " (no body)", free_input);
     bar.finish();
     spdlog::info("Lv.{} ({} triangles): {} runs and {} stage breakdowns in {:.0f} s", level, g.mesh.F.rows(),
-                 runs.size(), stage_runs, std::chrono::duration<double>(Clock::now() - level_start).count());
+                 runs.size() + blender_runs, stage_runs, std::chrono::duration<double>(Clock::now() - level_start).count());
     if (on_level) on_level(result);
   }
   return result;
@@ -486,34 +556,40 @@ std::string format_bench_table(const BenchResult& result) {
             << "% of the dense matmul's " << fixed(s.matmul_gflops, 1) << " GFLOP/s timed alongside\n";
   }
 
-  // Speed-up over the reference solver at equal loss: the cheapest reference run whose loss is
-  // not above the network's (a lower budget that also reached it would only raise the ratio).
-  out << "\nNetworks vs the reference solver at equal loss\n";
-  for (int level : levels) {
-    for (const auto& net : result.rows) {
-      if (net.level != level || net.family != "network" || !std::isfinite(net.physics_loss)) continue;
-      const BenchRow* best = nullptr;
-      const BenchRow* most = nullptr;
-      for (const auto& ref : result.rows) {
-        if (ref.level != level || ref.family != "reference") continue;
-        if (!most || ref.iterations > most->iterations) most = &ref;
-        if (std::isfinite(ref.physics_loss) && ref.physics_loss <= net.physics_loss &&
-            (!best || ref.latency_ms_median < best->latency_ms_median))
-          best = &ref;
+  // Speed-up over the reference solver (and Blender) at equal loss: the cheapest run whose loss
+  // is not above the network's (a lower budget that also reached it would only raise the ratio).
+  auto equal_loss = [&](const std::string& family, const std::string& who, const std::string& budget) {
+    const bool any = std::any_of(result.rows.begin(), result.rows.end(), [&](const BenchRow& r) { return r.family == family; });
+    if (!any) return;
+    out << "\nNetworks vs " << who << " at equal loss\n";
+    for (int level : levels) {
+      for (const auto& net : result.rows) {
+        if (net.level != level || net.family != "network" || !std::isfinite(net.physics_loss)) continue;
+        const BenchRow* best = nullptr;
+        const BenchRow* most = nullptr;
+        for (const auto& ref : result.rows) {
+          if (ref.level != level || ref.family != family) continue;
+          if (!most || ref.iterations > most->iterations) most = &ref;
+          if (std::isfinite(ref.physics_loss) && ref.physics_loss <= net.physics_loss &&
+              (!best || ref.latency_ms_median < best->latency_ms_median))
+            best = &ref;
+        }
+        if (!most) continue;
+        out << "  Lv." << level << " " << net.method << ": ";
+        if (best)
+          out << best->method << " reaches its loss in " << fixed(best->latency_ms_median, 1) << " ms: "
+              << fixed(best->latency_ms_median / net.latency_ms_median, 1) << "x the network's "
+              << fixed(net.latency_ms_median, 1) << " ms\n";
+        else
+          out << "no " << budget << " reaches its loss (up to " << most->method << ", "
+              << fixed(most->latency_ms_median, 1) << " ms = "
+              << fixed(most->latency_ms_median / net.latency_ms_median, 1) << "x the network's "
+              << fixed(net.latency_ms_median, 1) << " ms, loss " << fixed(most->physics_loss, 3) << " J)\n";
       }
-      if (!most) continue;
-      out << "  Lv." << level << " " << net.method << ": ";
-      if (best)
-        out << best->method << " reaches its loss in " << fixed(best->latency_ms_median, 1) << " ms: "
-            << fixed(best->latency_ms_median / net.latency_ms_median, 1) << "x the network's "
-            << fixed(net.latency_ms_median, 1) << " ms\n";
-      else
-        out << "no reference budget reaches its loss (up to " << most->method << ", "
-            << fixed(most->latency_ms_median, 1) << " ms = "
-            << fixed(most->latency_ms_median / net.latency_ms_median, 1) << "x the network's "
-            << fixed(net.latency_ms_median, 1) << " ms)\n";
     }
-  }
+  };
+  equal_loss("reference", "the reference solver", "reference budget");
+  equal_loss("blender", "Blender's cloth", "Blender quality");
   if (levels.size() >= 2) {
     out << "\nLatency growth exponent in vertex count (least squares over levels, log-log)\n";
     for (const auto& m : methods) {

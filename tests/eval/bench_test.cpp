@@ -38,6 +38,40 @@ std::string bench_args(const std::string& out, const std::string& extra = "") {
          "/data/pretrained/mgn.h5] --set frames=3 --set stage_repeats=1 --out " + out + " " + extra;
 }
 
+// Without Blender the rows are skipped with one log line; `enabled: on` makes it an error.
+TEST(BenchBlender, MissingBlenderSkipsTheRowsOrFailsWhenRequired) {
+  const std::string out = test::temp_dir("bench_noblender");
+  const std::string few = "--set levels=[1] --set k_values=[] --set ablations=[] --set no_body_variant=false ";
+  auto r = test::run_pb4u(bench_args(out, few + "--set blender.enabled=auto --set blender.executable=no-such-blender")
+                              .replace(0, 3, ""));  // not quiet: the log line is the point
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("Blender ('no-such-blender') not found on PATH: no Blender rows"), std::string::npos) << r.err;
+  EXPECT_EQ(test::read_file(out + "/bench.csv").find("Blender"), std::string::npos);
+  auto on = test::run_pb4u(bench_args(out + "/on", few + "--set blender.enabled=on --set blender.executable=no-such-blender"));
+  EXPECT_EQ(on.exit_code, 1);
+  EXPECT_NE(on.err.find("blender.executable: 'no-such-blender' not found"), std::string::npos) << on.err;
+}
+
+// With Blender installed: one Blender row per level and quality, scored with pb4u's terms.
+TEST(BenchBlender, BlenderRowsAreScoredWithPb4uTerms) {
+  if (find_blender("blender").empty()) GTEST_SKIP() << "Blender is not installed (scripts/install_deps.sh --blender)";
+  const std::string out = test::temp_dir("bench_blender");
+  auto r = test::run_pb4u(bench_args(out, "--set levels=[1] --set k_values=[] --set ablations=[] "
+                                          "--set no_body_variant=false --set blender.enabled=on "
+                                          "--set blender.qualities=[2]"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto rows = read_csv(out + "/bench_details.csv");
+  int blender = 0;
+  for (size_t i = 1; i < rows.size(); ++i) {
+    if (rows[i][3] != "Blender (quality 2)") continue;
+    ++blender;
+    EXPECT_EQ(rows[i][4], "blender");
+    for (size_t c = 8; c < 11; ++c) EXPECT_TRUE(std::isfinite(std::stod(rows[i][c]))) << rows[0][c];
+  }
+  EXPECT_EQ(blender, 1);
+  EXPECT_NE(test::read_file(out + "/table.txt").find("Networks vs Blender's cloth at equal loss"), std::string::npos);
+}
+
 TEST(Bench, TinyConfigWritesSpecCsvWithFiniteValues) {
   const std::string out = test::temp_dir("bench");
   auto r = test::run_pb4u(bench_args(out));

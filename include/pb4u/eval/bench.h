@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "pb4u/config/config_io.h"
+#include "pb4u/eval/blender_cloth.h"
 #include "pb4u/eval/divergence_guard.h"
 #include "pb4u/physics/material.h"
 #include "pb4u/physics/penetration.h"
@@ -42,6 +43,9 @@ struct BenchConfig {
   Material material;      // the evaluation material (SPEC 2 defaults)
   PhysicsConfig physics;  // solver defaults; the budget is overridden per run
   DivergenceConfig divergence;  // when a run stops as diverged
+  // Blender's cloth per level (scripts/blender_cloth.py), scored with pb4u's terms; skipped
+  // with one log line when Blender is not found (enabled: auto).
+  BlenderConfig blender;
 
   template <class V>
   void visit(V& v) {
@@ -65,6 +69,7 @@ struct BenchConfig {
     v("material", material);
     v("physics", physics);
     v("divergence", divergence);
+    v("blender", blender);
   }
 };
 
@@ -73,9 +78,9 @@ struct BenchRow {
   int level = 0;
   int64_t triangles = 0, vertices = 0;
   std::string method;             // e.g. "Pb4U", "Pb4U (fixed K)", "MGN", "Reference (20 it)"
-  std::string family;             // network | fixed_k | ablation | reference | no_body
+  std::string family;             // network | fixed_k | ablation | reference | no_body | blender
   int64_t K = 0;                  // propagation steps (0: MGN, reference)
-  int iterations = 0;             // reference solver budget (0: a network)
+  int iterations = 0;             // reference solver budget, Blender's quality (0: a network)
   int threads = 1;                // torch intra-op threads
   double latency_ms_median = 0, latency_ms_min = 0;  // per frame, after warm-up
   double physics_loss = 0;        // J: SPEC 3 total, mean per frame (NaN when nothing finite)
