@@ -51,5 +51,6 @@ echo "== pb4u evaluate: Pb4U vs MGN on the quick levels (Table 1 layout)"
 echo
 echo "Outputs are in $OUT/:"
 echo "  tshirt_walk/   garment_*.obj, body_*.obj, garment.pc2 + body.pc2 (Blender: Mesh Cache"
-echo "                 modifier on garment_0000.obj), rollout.h5, energies.csv, energies.png"
+echo "                 modifier on garment_0000.obj), rollout.h5, energies.csv, energies.png,"
+echo "                 preview.png (front and side views; red = inside the body)"
 echo "  table1.txt     Table-1-style metrics (--format json for SPEC 7's JSON)"
