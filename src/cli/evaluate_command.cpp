@@ -23,7 +23,7 @@ void add_evaluate_command(CLI::App& app, const GlobalOptions& global) {
   struct Args {
     std::string device = "cpu";
     std::vector<std::string> checkpoints, names, methods, sets;
-    std::string config, format = "table";
+    std::string config, format = "table", preview;
   };
   auto args = std::make_shared<Args>();
   cmd->add_option("--checkpoint", args->checkpoints, "Training checkpoint or export (repeatable)");
@@ -33,10 +33,14 @@ void add_evaluate_command(CLI::App& app, const GlobalOptions& global) {
   cmd->add_option("--config,-c", args->config, "Evaluation config (configs/eval/*.yaml)");
   cmd->add_option("--set", args->sets, "Override a config key, e.g. --set max_frames=10 (repeatable)");
   cmd->add_option("--format", args->format, "table | csv | json")->check(CLI::IsMember({"table", "csv", "json"}));
+  cmd->add_option("--preview", args->preview,
+                  "Write a contact sheet (PNG) of the first network's worst sequence (largest mean positive energy)");
   cmd->add_option("--device", args->device, "Where the network runs: cpu | cuda | cuda:N (metrics stay on the CPU)");
   cmd->callback([args, &global] {
     apply_global_options(global);
-    const EvalConfig config = load_config<EvalConfig>(args->config, args->sets);
+    std::vector<std::string> sets = args->sets;
+    if (!args->preview.empty()) sets.push_back("preview=" + args->preview);
+    const EvalConfig config = load_config<EvalConfig>(args->config, sets);
     std::vector<ModelFile> models;
     const torch::Device device = resolve_device(args->device, "--device");
     for (const auto& path : args->checkpoints) models.push_back(load_model_file(path));

@@ -1,5 +1,7 @@
 #include "pb4u/eval/evaluate.h"
 
+#include <spdlog/spdlog.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -11,6 +13,7 @@
 #include "pb4u/data/dataset.h"
 #include "pb4u/eval/rollout.h"
 #include "pb4u/scene/pins.h"
+#include "pb4u/sim/preview.h"
 #include "pb4u/util/error.h"
 #include "pb4u/util/json_text.h"
 #include "pb4u/util/progress.h"
@@ -198,6 +201,16 @@ std::vector<LevelResult> evaluate(const EvalConfig& config, const std::vector<Ev
                 "at rest and the rollout length must be set (max_frames > 0)");
   const Dataset data = read_dataset(config.dataset);
   std::vector<LevelResult> results;
+  // The worst sequence of the first network method, for config.preview.
+  const EvalMethod* previewed = nullptr;
+  for (const EvalMethod& m : methods)
+    if (m.model && !previewed) previewed = &m;
+  struct Worst {
+    double positive = -1;
+    std::string title;
+    std::vector<Eigen::MatrixXd> garment, body;
+    Eigen::MatrixXi garment_faces, body_faces;
+  } worst;
   for (int level : config.levels) {
     if (level < 1 || level > int(data.level_triangles.size()))
       throw Error("levels: level " + std::to_string(level) + " is not in " + config.dataset + " (it has " +
@@ -235,8 +248,26 @@ std::vector<LevelResult> evaluate(const EvalConfig& config, const std::vector<Ev
         } else {
           step = reference_stepper(config.physics.solver);
         }
-        RolloutResult r = run_rollout(in, step, config.physics);
+        const bool keep_frames = !config.preview.empty() && &method == previewed;
+        std::vector<Eigen::MatrixXd> frames;
+        if (keep_frames) frames.push_back(in.x0);
+        RolloutResult r = run_rollout(in, step, config.physics,
+                                      keep_frames ? FrameCallback([&frames](int, const Eigen::MatrixXd& x, const EnergyReport&,
+                                                                            const PenetrationFigures*) { frames.push_back(x); })
+                                                  : FrameCallback());
         SequenceResult q = sequence_result(s, r);
+        if (keep_frames && std::isfinite(q.positive_energy) && q.positive_energy > worst.positive) {
+          worst.positive = q.positive_energy;
+          char title[256];
+          std::snprintf(title, sizeof title, "%s, Lv.%d %s on %s: worst sequence (positive energy mean %.3g J)%s",
+                        method.name.c_str(), level, q.garment.c_str(), q.motion.c_str(), q.positive_energy,
+                        q.diverged ? (", diverged at frame " + std::to_string(q.diverged_at_frame)).c_str() : "");
+          worst.title = title;
+          worst.garment = std::move(frames);
+          worst.garment_faces = garment.mesh.F;
+          worst.body.assign(in.body.begin(), in.body.begin() + std::min(in.body.size(), worst.garment.size()));
+          worst.body_faces = in.body.empty() ? Eigen::MatrixXi() : in.body_faces;
+        }
         if (q.diverged && (!mr.diverged || q.diverged_at_frame < mr.diverged_at_frame)) {
           mr.diverged = true;
           mr.diverged_at_frame = q.diverged_at_frame;
@@ -262,6 +293,10 @@ std::vector<LevelResult> evaluate(const EvalConfig& config, const std::vector<Ev
     for (const auto& t : build_terms(effects, config.physics)) lr.terms.push_back(t->name());
     results.push_back(std::move(lr));
   }
+  if (!config.preview.empty() && worst.positive >= 0 &&
+      write_preview(config.preview, preview_frames(int(worst.garment.size())), worst.garment, worst.garment_faces,
+                    worst.body, worst.body_faces, worst.title))
+    spdlog::info("wrote {} ({})", config.preview, worst.title);
   return results;
 }
 

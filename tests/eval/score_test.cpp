@@ -232,5 +232,18 @@ TEST(Preview, SimulateWritesAContactSheetUnlessOff) {
   EXPECT_FALSE(fs::exists(dir + "/off/preview.png"));
 }
 
+// evaluate --preview: the sheet of the first network's worst sequence.
+TEST(Preview, EvaluateWritesTheWorstSequencesSheet) {
+  if (std::system("/usr/bin/python3 -c 'import matplotlib' 2>/dev/null") != 0)
+    GTEST_SKIP() << "no matplotlib under /usr/bin/python3 (scripts/install_deps.sh installs it)";
+  const std::string dir = test::temp_dir("preview_eval");
+  auto run = test::run_pb4u("--threads 1 evaluate --checkpoint " + kSource + "/data/pretrained/pb4u.h5 --config " +
+                            kSource + "/configs/eval/tiny.yaml --set dataset=" + test::tiny_dataset() +
+                            " --set levels=[1] --set max_frames=3 --preview " + dir + "/worst.png");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_TRUE(fs::exists(dir + "/worst.png"));
+  EXPECT_NE(run.err.find("worst sequence (positive energy mean"), std::string::npos) << run.err;
+}
+
 }  // namespace
 }  // namespace pb4u

@@ -43,6 +43,9 @@ struct EvalConfig {
   Material material;       // the evaluation material (SPEC 2 defaults)
   PhysicsConfig physics;   // evaluation uses the final collision weight
   DivergenceConfig divergence;  // when a rollout stops as diverged
+  // When set, a PNG contact sheet (sim/preview.h) of the first network method's worst
+  // sequence: the one with the largest mean positive energy over every level.
+  std::string preview;
 
   template <class V>
   void visit(V& v) {
@@ -59,6 +62,7 @@ struct EvalConfig {
     v("material", material);
     v("physics", physics);
     v("divergence", divergence);
+    v("preview", preview);
   }
 };
 
