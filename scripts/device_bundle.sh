@@ -12,8 +12,8 @@
 #   --no-gloo       leave out Gloo's headers (pb4u then builds without data-parallel training)
 #   --with-present  also the packages the image already had (HDF5, spdlog/fmt, yaml-cpp, CLI11,
 #                   Eigen, GoogleTest, Boost headers), for an image that loses them
-# The whole working tree travels with the carried bundle, so the two together must stay under
-# the device tool's 64 MiB: the script prints both and fails above it.
+# Carry device_bundle/debs to the GPU machine. The whole working tree travels with it, so the two
+# together must stay under the device tool's 64 MiB: the script prints both and fails above it.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -52,7 +52,8 @@ if ! grep -q 'VERSION_CODENAME=bookworm' /etc/os-release 2>/dev/null; then
 fi
 
 debs="$out/debs"
-rm -rf "$debs"
+# A fresh set; prefix/ and fmt-include/ are what device_build.sh made of the last one.
+rm -rf "$debs" "$out/prefix" "$out/fmt-include"
 mkdir -p "$debs"
 # apt-get download fetches exactly the named packages (no dependencies), as the apt lists
 # name them: a 404 means the lists are stale (apt-get update).
@@ -66,9 +67,9 @@ fi
 echo "gloo=$gloo cgal=$cgal present=$present" >>"$out/MANIFEST"
 
 limit=$((64 * 1024 * 1024))
-bundle=$(du -sb "$out" | cut -f1)
+bundle=$(du -sb "$debs" | cut -f1)
 tree=$(git ls-files -z --cached --others --exclude-standard | xargs -0 du -cb 2>/dev/null | tail -n1 | cut -f1)
-echo "device_bundle: ${#packages[@]} packages in $out: $((bundle / 1024)) KiB; working tree $((tree / 1024)) KiB; together $(((bundle + tree) / 1024)) KiB of $((limit / 1024)) KiB"
+echo "device_bundle: ${#packages[@]} packages in $debs: $((bundle / 1024)) KiB; working tree $((tree / 1024)) KiB; together $(((bundle + tree) / 1024)) KiB of $((limit / 1024)) KiB"
 if [ $((bundle + tree)) -gt "$limit" ]; then
   echo "device_bundle: over the device tool's 64 MiB carry limit" >&2
   exit 1
