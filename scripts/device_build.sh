@@ -12,6 +12,7 @@
 #   --build-dir DIR   default build-cuda
 #   --configure-only  unpack, rewrite and configure, then stop
 #   --no-tests        build but do not run ctest
+#   --jobs N          build and ctest jobs (default: all cores)
 #   --logs DIR        copy the configure, build and test logs there
 # TORCH_CUDA_ARCH_LIST, when set, wins over the GPU's compute capability (nvidia-smi; else 9.0).
 set -euo pipefail
@@ -28,7 +29,7 @@ while [ $# -gt 0 ]; do
     --jobs) jobs=$2; shift ;;
     --logs) logs=$2; shift ;;
     --) shift; ctest_args=("$@"); break ;;
-    -h|--help) sed -n '2,17p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next } NR > 1 { exit }' "$0"; exit 0 ;;
     *) echo "device_build: unknown argument '$1' (see --help)" >&2; exit 2 ;;
   esac
   shift
@@ -148,9 +149,8 @@ export LD_LIBRARY_PATH="$torch_root/lib:$libdir${LD_LIBRARY_PATH:+:$LD_LIBRARY_P
 status=0
 ctest --test-dir "$build" -j "$jobs" --timeout 900 --output-on-failure "${ctest_args[@]}" \
   >"$build/device_ctest.log" 2>&1 || status=$?
-grep -E 'tests passed|tests failed|Total Test time|\(Failed\)|\(SEGFAULT\)|\(Timeout\)|\(Subprocess aborted\)|\*\*\*' \
+grep -E 'tests passed|tests failed|Total Test time|[0-9]+ - .*\((Failed|SEGFAULT|Timeout|Subprocess aborted|Skipped|Not Run|Exception)\)' \
   "$build/device_ctest.log" | tail -n 60
-say "the cuda label:"
-ctest --test-dir "$build" -L cuda -N | tail -n 1
+say "the cuda label ($(ctest --test-dir "$build" -L cuda -N | tail -n 1 | tr -d '\n')):"
 grep -E '^ *[0-9]+/[0-9]+ Test +#[0-9]+: Cuda[A-Za-z]*\.' "$build/device_ctest.log" || true
 exit $status

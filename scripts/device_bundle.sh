@@ -25,7 +25,7 @@ while [ $# -gt 0 ]; do
     --no-gloo) gloo=0 ;;
     --with-present) present=1 ;;
     --out) out=$2; shift ;;
-    -h|--help) sed -n '2,18p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next } NR > 1 { exit }' "$0"; exit 0 ;;
     *) echo "device_bundle: unknown argument '$1' (see --help)" >&2; exit 2 ;;
   esac
   shift

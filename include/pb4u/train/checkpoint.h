@@ -30,8 +30,8 @@ CheckpointMeta read_checkpoint_meta(const std::string& path);
 
 // Restores parameters/buffers into `model` (and the optimiser if given) and returns the
 // meta. A missing or differently shaped parameter is a pb4u::Error naming the file and
-// the parameter. The tensors are read onto `device`, whatever device saved them: the one the
-// model (and its optimiser) is on, or a model moved onto another device is moved back.
+// the parameter. Tensors are read onto `device` whatever device saved them: pass the one the
+// model and optimiser are on (a parameter on another device would be moved to `device`).
 CheckpointMeta load_checkpoint(const std::string& path, torch::nn::Module& model,
                                torch::optim::Optimizer* optimizer, torch::Device device = torch::kCPU);
 
