@@ -9,6 +9,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "pb4u/util/remove_tree.h"
+
 namespace pb4u::test {
 namespace fs = std::filesystem;
 
@@ -17,7 +19,7 @@ std::string temp_dir(const std::string& tag) {
   fs::path dir = fs::temp_directory_path() /
                  ("pb4u_test_" + tag + "_" + std::to_string(::getpid()) + "_" +
                   std::to_string(counter++));
-  fs::remove_all(dir);
+  remove_tree(dir.string());  // not fs::remove_all: see remove_tree.h
   fs::create_directories(dir);
   return dir.string();
 }
@@ -42,7 +44,7 @@ CommandResult run_pb4u(const std::string& args) {
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
   r.out = read_file(out);
   r.err = read_file(err);
-  fs::remove_all(dir);
+  remove_tree(dir);
   return r;
 }
 

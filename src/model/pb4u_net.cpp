@@ -127,7 +127,7 @@ Pb4uNet load_model(const std::string& path, const ModelConfig& config) {
   for (const auto& p : model->named_parameters()) expected[p.key()] = p.value().sizes().vec();
   for (const auto& b : model->named_buffers()) expected[b.key()] = b.value().sizes().vec();
   try {
-    torch::load(model, path);
+    torch::load(model, path, torch::Device(torch::kCPU));  // a model saved from a GPU loads anywhere
   } catch (const c10::Error& e) {
     std::string why = e.what_without_backtrace();
     fail_file(path, "not a model of this config (" + why.substr(0, why.find('\n')) + ")");

@@ -70,13 +70,15 @@ CheckpointMeta read_meta(torch::serialize::InputArchive& ar, const std::string& 
   return meta;
 }
 
-void open_archive(torch::serialize::InputArchive& ar, const std::string& path) {
+// Every tensor is read onto `device`: as saved, a CUDA run's checkpoint would name its GPU, and
+// could not be read on a machine without it (or would move a model to where it was trained).
+void open_archive(torch::serialize::InputArchive& ar, const std::string& path, torch::Device device) {
   std::error_code ec;
   if (!fs::exists(path, ec)) fail_file(path, "no such checkpoint");
   if (fs::is_directory(path, ec)) fail_file(path, "is a directory, not a checkpoint");
   if (fs::file_size(path, ec) == 0) fail_file(path, "checkpoint is empty");
   try {
-    ar.load_from(path);
+    ar.load_from(path, device);
   } catch (const c10::Error& e) {
     fail_file(path, "corrupt or truncated checkpoint (" +
                         std::string(e.what_without_backtrace()).substr(0, 160) + ")");
@@ -138,14 +140,14 @@ void save_checkpoint(const std::string& path, const torch::nn::Module& model,
 
 CheckpointMeta read_checkpoint_meta(const std::string& path) {
   torch::serialize::InputArchive ar;
-  open_archive(ar, path);
+  open_archive(ar, path, torch::kCPU);
   return read_meta(ar, path);
 }
 
 CheckpointMeta load_checkpoint(const std::string& path, torch::nn::Module& model,
-                               torch::optim::Optimizer* optimizer) {
+                               torch::optim::Optimizer* optimizer, torch::Device device) {
   torch::serialize::InputArchive ar;
-  open_archive(ar, path);
+  open_archive(ar, path, device);
   CheckpointMeta meta = read_meta(ar, path);
   torch::serialize::InputArchive model_ar;
   if (!ar.try_read("model", model_ar)) fail_file(path, "checkpoint has no model");
@@ -169,7 +171,7 @@ CheckpointMeta load_checkpoint(const std::string& path, torch::nn::Module& model
   if (ar.try_read("meta/torch_rng_state", rng)) {
     at::Generator gen = at::detail::getDefaultCPUGenerator();
     std::lock_guard<std::mutex> lock(gen.mutex());
-    gen.set_state(rng);
+    gen.set_state(rng.to(torch::kCPU));
   }
   return meta;
 }

@@ -134,7 +134,7 @@ void Trainer::start_group(bool resume) {
   const bool distributed = group_ && group_->world_size() > 1;
   std::string problem, checkpoint_bytes;
   auto load = [this](const std::string& path) {
-    CheckpointMeta meta = load_checkpoint(path, *model_, optimizer_.get());
+    CheckpointMeta meta = load_checkpoint(path, *model_, optimizer_.get(), device_);
     step_ = meta.step;
     skipped_steps_ = meta.skipped_steps;
     elapsed_seconds_ = meta.elapsed_seconds;

@@ -21,15 +21,22 @@ std::string error_of(const std::string& name, const std::string& key) {
 
 TEST(Device, CpuAlwaysCudaOnlyWithAGpuOtherNamesNever) {
   EXPECT_EQ(resolve_device("cpu", "run.device"), torch::Device(torch::kCPU));
-  for (const char* bad : {"gpu", "", "CUDA", "cuda:", "cuda:x", "cuda:-1", "cpu:0"}) {
+  for (const char* bad : {"gpu", "", "CUDA", "cuda0", "cpu:0"}) {
     const std::string e = error_of(bad, "run.device");
-    EXPECT_EQ(e.rfind("run.device: ", 0), 0u) << bad << ": " << e;
+    EXPECT_EQ(e, "run.device: expected cpu, cuda or cuda:N, got '" + std::string(bad) + "'") << bad;
+  }
+  // A malformed index is the same error with or without a GPU (the form is checked first).
+  for (const char* bad : {"cuda:", "cuda:x", "cuda:-1", "cuda:0x", "cuda:1234"}) {
+    const std::string e = error_of(bad, "run.device");
+    EXPECT_EQ(e, "run.device: expected cpu, cuda or cuda:N, got '" + std::string(bad) + "'") << bad;
   }
   if (torch::cuda::is_available()) {
-    EXPECT_TRUE(resolve_device("cuda", "--device").is_cuda());
-    EXPECT_NE(error_of("cuda:999", "--device").find("--device"), std::string::npos);
+    EXPECT_EQ(resolve_device("cuda", "--device"), torch::Device(torch::kCUDA, 0));
+    EXPECT_EQ(resolve_device("cuda:0", "--device"), torch::Device(torch::kCUDA, 0));
+    const std::string e = error_of("cuda:999", "--device");
+    EXPECT_EQ(e.rfind("--device: cuda:999 requested but there are ", 0), 0u) << e;
   } else {
-    for (const char* name : {"cuda", "cuda:0"}) {
+    for (const char* name : {"cuda", "cuda:0", "cuda:999"}) {
       const std::string e = error_of(name, "--device");
       EXPECT_EQ(e.rfind("--device: cuda requested", 0), 0u) << e;
       EXPECT_EQ(e.find('\n'), std::string::npos) << e;

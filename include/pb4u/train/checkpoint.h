@@ -30,9 +30,10 @@ CheckpointMeta read_checkpoint_meta(const std::string& path);
 
 // Restores parameters/buffers into `model` (and the optimiser if given) and returns the
 // meta. A missing or differently shaped parameter is a pb4u::Error naming the file and
-// the parameter.
+// the parameter. Tensors are read onto `device` whatever device saved them: pass the one the
+// model and optimiser are on (a parameter on another device would be moved to `device`).
 CheckpointMeta load_checkpoint(const std::string& path, torch::nn::Module& model,
-                               torch::optim::Optimizer* optimizer);
+                               torch::optim::Optimizer* optimizer, torch::Device device = torch::kCPU);
 
 // "<dir>/step_00001234.pt"
 std::string checkpoint_path(const std::string& dir, int64_t step);
