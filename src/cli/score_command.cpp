@@ -86,7 +86,6 @@ ScoreInput score_input(const ScoreArgs& a) {
     }
   }
   in.effects = Effects::from_names(effects, a.scene.empty() ? std::string("effects") : a.scene + ": effects");
-  in.effects.pins = false;
   if (in.garment_rest.V.rows() == 0)
     throw Error(a.frames + ": no rest shape: give the garment's rest mesh with --garment (or a --scene)");
   if (in.frames[0].rows() != in.garment_rest.V.rows())

@@ -23,6 +23,7 @@
 #include "pb4u/physics/reference_solver.h"
 #include "pb4u/util/error.h"
 #include "pb4u/util/progress.h"
+#include "pb4u/util/remove_tree.h"
 #include "pb4u/util/runtime.h"
 
 namespace pb4u {
@@ -243,17 +244,17 @@ BenchRow run_one(const Run& run, const RolloutInput& body_input, const RolloutIn
 
 // Blender's cloth on the level's body input, scored with pb4u's terms (eval/score.h). The
 // cloth starts at rest (Blender takes no start velocity), so it is scored from rest too.
-BenchRow run_blender(const std::string& blender, int quality, const RolloutInput& in, const BenchConfig& config,
-                     int level) {
+BenchRow run_blender(const std::string& blender, int quality, int threads, const RolloutInput& in,
+                     const BenchConfig& config, int level) {
   const std::string work = (fs::temp_directory_path() / ("pb4u_blender_" + std::to_string(::getpid()) + "_lv" +
                                                          std::to_string(level) + "_q" + std::to_string(quality)))
                                .string();
-  const BlenderRollout b = run_blender_cloth(in, blender, quality, config.blender.collision_distance, work);
+  const BlenderRollout b = run_blender_cloth(in, blender, quality, threads, config.blender.collision_distance, work);
   BenchRow row;
   row.method = "Blender (quality " + std::to_string(quality) + ")";
   row.family = "blender";
   row.iterations = quality;
-  row.threads = 1;
+  row.threads = threads;
   std::vector<double> latency;
   const size_t skip = b.frame_ms.size() > size_t(config.warmup_frames) ? size_t(config.warmup_frames) : 0;
   latency.assign(b.frame_ms.begin() + skip, b.frame_ms.end());
@@ -281,9 +282,7 @@ BenchRow run_blender(const std::string& blender, int quality, const RolloutInput
   row.terms = r.mean.terms;
   row.positive_loss = positive_energy(r.mean);
   if (!r.penetration.empty()) row.penetration = r.penetration_summary;
-  std::error_code ec;  // the work folder is kept on failure only
-  for (const auto& entry : fs::directory_iterator(work, ec)) fs::remove(entry.path(), ec);
-  fs::remove(work, ec);
+  remove_tree(work);  // kept only when Blender's run fails (its log is in it)
   return row;
 }
 
@@ -403,7 +402,7 @@ BenchResult run_bench(const BenchConfig& config, const std::function<void(const 
       bar.step(1, run.method);
     }
     for (int q = 0; q < blender_runs; ++q) {
-      BenchRow row = run_blender(blender, config.blender.qualities[q], body_input, config, level);
+      BenchRow row = run_blender(blender, config.blender.qualities[q], result.threads, body_input, config, level);
       row.level = level;
       row.triangles = g.mesh.F.rows();
       row.vertices = g.mesh.V.rows();

@@ -42,7 +42,7 @@ std::string find_blender(const std::string& executable) {
   return "";
 }
 
-BlenderRollout run_blender_cloth(const RolloutInput& in, const std::string& blender, int quality,
+BlenderRollout run_blender_cloth(const RolloutInput& in, const std::string& blender, int quality, int threads,
                                  double collision_distance, const std::string& work_dir) {
   std::error_code ec;
   fs::create_directories(work_dir, ec);
@@ -52,7 +52,8 @@ BlenderRollout run_blender_cloth(const RolloutInput& in, const std::string& blen
   write_obj(dir + "garment_0000.obj", TriMesh{in.x0, in.garment_rest.F});
   const Material& m = in.material;
   std::ostringstream cmd;
-  cmd << quoted(blender) << " -b --factory-startup -P " << quoted(std::string(PB4U_SOURCE_DIR) + "/scripts/blender_cloth.py")
+  cmd << quoted(blender) << " -b --factory-startup -t " << threads << " -P "
+      << quoted(std::string(PB4U_SOURCE_DIR) + "/scripts/blender_cloth.py")
       << " -- --start " << quoted(dir + "garment_0000.obj") << " --rest " << quoted(dir + "garment_rest.obj")
       << " --frames " << in.steps << " --out " << quoted(dir + "blender.pc2") << " --times "
       << quoted(dir + "times.csv") << " --quality " << quality << " --collision-distance " << collision_distance

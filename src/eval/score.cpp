@@ -63,8 +63,9 @@ ScoreResult score_sequence(const ScoreInput& in) {
                 " garment frames (one body frame per garment frame is needed)");
   if (in.effects.needs_body() && in.body.empty())
     throw Error("score: collision and friction need a body (give its frames, or drop those effects)");
+  const Eigen::Index body_vertices = in.body_faces.size() ? in.body_faces.maxCoeff() + 1 : 0;
   for (size_t t = 0; t < in.body.size(); ++t)
-    if (in.body[t].rows() != in.body[0].rows() || (in.body_faces.size() && in.body_faces.maxCoeff() >= in.body[t].rows()))
+    if (in.body[t].rows() != in.body[0].rows() || in.body[t].rows() < body_vertices)
       throw Error("score: body frame " + std::to_string(t) + " does not match the body mesh (" +
                   std::to_string(in.body[t].rows()) + " vertices)");
 

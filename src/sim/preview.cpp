@@ -3,17 +3,19 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <set>
-#include <cmath>
 #include <functional>
+#include <set>
 
 #include <unistd.h>
 
 #include "pb4u/spatial/signed_distance_to_surface.h"
+#include "pb4u/util/error.h"
 #include "pb4u/util/plot_script.h"
+#include "pb4u/util/remove_tree.h"
 
 namespace pb4u {
 namespace fs = std::filesystem;
@@ -80,9 +82,11 @@ bool write_preview(const std::string& png, const std::vector<int>& frames, const
     args.push_back(spec);
   }
   const bool ok = run_plot_script("plot_preview.py", args) && fs::exists(png);
-  // Removing by name: std::filesystem::remove_all can bind to a copy in PyTorch's libtorch.so.
-  for (const auto& entry : fs::directory_iterator(tmp, ec)) fs::remove(entry.path(), ec);
-  fs::remove(tmp, ec);
+  try {
+    remove_tree(tmp.string());
+  } catch (const Error& e) {
+    spdlog::warn("preview: {}", e.what());  // a leftover temp folder is not worth failing for
+  }
   return ok;
 }
 

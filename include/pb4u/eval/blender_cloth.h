@@ -37,9 +37,11 @@ struct BlenderRollout {
 };
 
 // Runs Blender's cloth on `input` (its rest shape, start frame, body frames, material, pins;
-// the cloth starts at rest) with `quality` steps per frame in `work_dir` (created; its files
-// are left for inspection). Throws pb4u::Error naming Blender's log on a failed run.
-BlenderRollout run_blender_cloth(const RolloutInput& input, const std::string& blender, int quality,
+// the cloth starts at rest) with `quality` steps per frame and `threads` threads (Blender's
+// -t; the bench passes its own torch thread count so both sides get the same cores) in
+// `work_dir` (created; its files are left for inspection). Throws pb4u::Error naming
+// Blender's log on a failed run.
+BlenderRollout run_blender_cloth(const RolloutInput& input, const std::string& blender, int quality, int threads,
                                  double collision_distance, const std::string& work_dir);
 
 }  // namespace pb4u
