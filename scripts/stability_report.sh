@@ -2,30 +2,39 @@
 # Held-out stability report (issue 14, SPEC 9): the networks and the reference solver on the
 # held-out evaluation, with a body (configs/eval/heldout.yaml) and pinned without one
 # (configs/eval/heldout_pinned.yaml); a markdown table of each network against the solver on
-# the same sequences (scripts/stability_table.py) to runs/stability/report.md and stdout.
+# the same sequences (scripts/stability_table.py) to DIR/report.md and stdout.
 #
-# Usage: scripts/stability_report.sh [--quick] [--out DIR] [--split NAME] [--dataset FILE]
-#                                    [--threads N] [--set KEY=VALUE ...] [CHECKPOINT ...]
+# Usage: scripts/stability_report.sh [--quick | --reduced] [--case body|pinned] [--out DIR]
+#            [--split NAME] [--dataset FILE] [--threads N] [--set KEY=VALUE ...] [CHECKPOINT ...]
 #   CHECKPOINT    networks to evaluate (default data/pretrained/pb4u.h5 data/pretrained/mgn.h5)
 #   --quick       a smoke test: level 1, the t-shirt, one motion, 5 frames (minutes, not hours)
+#   --reduced     what docs/robustness.md reports: level 1; the t-shirt, the skirt and the
+#                 imported t-shirt; the first held-out motion of each body; 300 frames (~1 h)
+#   --case C      only the body case or only the pinned one (default both)
+#   --fresh       run the solver again even if DIR holds its run with the same settings
 #   --split NAME  motions of this split instead of "heldout" (e.g. test, for a dataset without it)
 #   --dataset F   another generated dataset (default: the configs', data/generated/quick/quick.h5)
 #   --threads N   torch threads for pb4u (default 1)
 #   --set K=V     any evaluate-config override for both cases, e.g. --set levels=[1] (repeatable)
-# The full run rolls the solver out for 300 frames per sequence: hours on a CPU. Each case's
-# JSON is kept in DIR (body.json, pinned.json) and the report is rebuilt from them.
+# The full run rolls the solver out for 300 frames per sequence: hours on a CPU. The solver does
+# not depend on the networks, so its run is kept in DIR/<case>.reference.json beside the
+# settings it was run with (config, overrides, pb4u's version) and reused while they match; the networks' run goes to
+# DIR/<case>.networks.json, and the report is built from both.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-out=runs/stability quick=0 split="" dataset="" threads=1 models=() extra=()
+out=runs/stability quick=0 reduced=0 fresh=0 cases="body pinned" split="" dataset="" threads=1 models=() extra=()
 while [ $# -gt 0 ]; do
   case "$1" in
     --quick) quick=1 ;;
+    --reduced) reduced=1 ;;
+    --fresh) fresh=1 ;;
+    --case) case $2 in body|pinned) cases=$2 ;; *) echo "stability_report.sh: --case body or pinned, not '$2'" >&2; exit 2 ;; esac; shift ;;
     --out) out=$2; shift ;;
     --split) split=$2; shift ;;
     --dataset) dataset=$2; shift ;;
     --threads) threads=$2; shift ;;
     --set) extra+=(--set "$2"); shift ;;
-    -h|--help) sed -n '2,16p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) awk 'NR > 1 && !/^#/ { exit } NR > 1 { sub(/^# ?/, ""); print }' "$0"; exit 0 ;;
     -*) echo "stability_report.sh: unknown option $1" >&2; exit 2 ;;
     *) models+=("$1") ;;
   esac
@@ -39,25 +48,43 @@ sets=()
 [ -n "$split" ] && sets+=(--set "split=$split")
 [ -n "$dataset" ] && sets+=(--set "dataset=$dataset")
 [ $quick = 1 ] && sets+=(--set "levels=[1]" --set "garments=[tshirt]" --set max_sequences=1 --set max_frames=5)
-sets+=("${extra[@]}")
+[ $reduced = 1 ] && sets+=(--set "levels=[1]" --set "garments=[tshirt,skirt,tshirt_file]" --set max_sequences=1)
+[ ${#extra[@]} -gt 0 ] && sets+=("${extra[@]}")
 checkpoints=()
 for m in "${models[@]}"; do checkpoints+=(--checkpoint "$m"); done
 
 mkdir -p "$out"
-for case in body pinned; do
+run_evaluate() {  # run_evaluate CASE OUTPUT ARGS...: evaluate into OUTPUT (atomically), timed
+  local case=$1 output=$2
+  shift 2
+  local start
+  start=$(date +%s)
+  "$pb4u" --threads "$threads" evaluate "$@" --format json >"$output.tmp"
+  mv "$output.tmp" "$output"
+  echo "stability_report.sh: $case: $(basename "$output") took $(( $(date +%s) - start )) s" >&2
+}
+runs=()
+for case in $cases; do
   config=configs/eval/heldout.yaml
   [ $case = pinned ] && config=configs/eval/heldout_pinned.yaml
-  echo "stability_report.sh: $case ($config), ${#models[@]} network(s) and the reference solver" >&2
-  start=$(date +%s)
-  "$pb4u" --threads "$threads" evaluate "${checkpoints[@]}" --method reference --config "$config" \
-    "${sets[@]}" --format json >"$out/$case.json.tmp"
-  mv "$out/$case.json.tmp" "$out/$case.json"
-  echo "stability_report.sh: $case took $(( $(date +%s) - start )) s" >&2
+  # The solver's run, reused while the config, the overrides and the binary's version match.
+  reference=$out/$case.reference.json
+  settings="$config $(sha256sum "$config" | cut -c1-16) ${sets[*]} $("$pb4u" --version 2>&1 | tail -1)"
+  if [ $fresh = 0 ] && [ -f "$reference" ] && [ "$(cat "$reference.settings" 2>/dev/null)" = "$settings" ]; then
+    echo "stability_report.sh: $case: reusing the solver's run $reference" >&2
+  else
+    echo "stability_report.sh: $case ($config): the reference solver" >&2
+    rm -f "$reference.settings"
+    run_evaluate "$case" "$reference" --method reference --config "$config" "${sets[@]}"
+    printf '%s' "$settings" >"$reference.settings"
+  fi
+  echo "stability_report.sh: $case ($config): ${#models[@]} network(s)" >&2
+  run_evaluate "$case" "$out/$case.networks.json" "${checkpoints[@]}" --config "$config" "${sets[@]}"
+  runs+=("$out/$case.networks.json,$reference:$case")
 done
 
 note="Configs: configs/eval/heldout.yaml (body) and heldout_pinned.yaml (pinned, no body)"
 [ ${#sets[@]} -gt 0 ] && note+=", overrides: ${sets[*]}"
 note+=". Networks: ${models[*]}. pb4u --threads $threads on a $(nproc --all)-core machine ($(date -u +%Y-%m-%d))."
-/usr/bin/python3 scripts/stability_table.py "$out/body.json:body" "$out/pinned.json:pinned" --note "$note" \
-  >"$out/report.md"
+/usr/bin/python3 scripts/stability_table.py "${runs[@]}" --note "$note" >"$out/report.md"
 cat "$out/report.md"

@@ -1,8 +1,9 @@
 #!/usr/bin/python3
 """Markdown stability table from `pb4u evaluate --format json` runs (issue 14, SPEC 9).
-Usage: stability_table.py RUN.json:LABEL [RUN2.json:LABEL2 ...] [--reference NAME] [--note TEXT]
+Usage: stability_table.py RUN.json[,MORE.json ...]:LABEL [...] [--reference NAME] [--note TEXT]
 Each run holds the networks and the reference solver on the same sequences (evaluate's
-per-method "sequences" list). Per sequence (garment, motion, body), level and network: its
+per-method "sequences" list); a run given as several comma-separated files (say the networks'
+and a cached solver run of the same config) is their methods merged level by level. Per sequence (garment, motion, body), level and network: its
 positive energy (stretch + bending + collision) as a ratio to the solver's on the same sequence
 (mean per frame, and largest frame), the share of garment vertices inside the body (mean and
 largest over frames), the deepest penetration (mm), and where it diverged. Standard library only."""
@@ -35,6 +36,23 @@ def diverged(q):
     return "frame %s%s" % (q.get("diverged_at_frame"), " (%s)" % reason if reason else "")
 
 
+def load_run(paths):
+    """One evaluate run from one or more JSON files: the methods of equal levels merged."""
+    merged = None
+    for path in paths:
+        with open(path) as f:
+            run = json.load(f)
+        if merged is None:
+            merged = run
+            continue
+        levels = {lv["level"]: lv for lv in merged["levels"]}
+        for lv in run["levels"]:
+            if lv["level"] not in levels:
+                sys.exit("stability_table.py: %s has level %s, which %s lacks" % (path, lv["level"], paths[0]))
+            levels[lv["level"]]["methods"].update(lv["methods"])
+    return merged
+
+
 def rows_of(run, label, reference):
     """Yields one table row (a list of cells) per network, sequence and level, and per-network
     worst figures for the summary."""
@@ -49,7 +67,7 @@ def rows_of(run, label, reference):
             if name == reference:
                 continue
             s = summary.setdefault(name, {"cases": 0, "diverged": 0, "mean_ratio": 0.0, "max_ratio": 0.0,
-                                          "inside": 0.0, "depth": 0.0})
+                                          "inside": None, "depth": None, "mean_ratios": []})
             for q in m["sequences"]:
                 key = (q["body"], q["garment"], q["motion"])
                 ref = solver.get(key)
@@ -72,9 +90,22 @@ def rows_of(run, label, reference):
                         s[k] = max(s[k], float(v))
                     except ValueError:
                         pass
-                s["inside"] = max(s["inside"], q.get("max_penetrating_fraction") or 0.0)
-                s["depth"] = max(s["depth"], q.get("max_penetration_mm") or 0.0)
+                try:
+                    s["mean_ratios"].append(float(mean_r))
+                except ValueError:
+                    pass
+                for k, key in (("inside", "max_penetrating_fraction"), ("depth", "max_penetration_mm")):
+                    if q.get(key) is not None:
+                        s[k] = max(s[k] or 0.0, q[key])
     return out, summary
+
+
+def median(values):
+    if not values:
+        return "n/a"
+    v = sorted(values)
+    n = len(v)
+    return "%.3g" % (v[n // 2] if n % 2 else 0.5 * (v[n // 2 - 1] + v[n // 2]))
 
 
 def table(header, rows):
@@ -92,8 +123,7 @@ def main():
     rows, summaries = [], {}
     for spec in a.runs:
         path, _, label = spec.rpartition(":") if ":" in spec else (spec, "", spec)
-        with open(path) as f:
-            run = json.load(f)
+        run = load_run(path.split(","))
         r, s = rows_of(run, label or path, a.reference)
         rows += r
         for name, v in s.items():
@@ -109,10 +139,10 @@ def main():
                  "E+ max ratio", "inside mean %", "inside max %", "depth max mm", "solver depth max mm",
                  "diverged", "solver diverged"], rows))
     print("\n## Worst case per network\n")
-    print(table(["run", "network", "cases", "diverged", "worst E+ mean ratio", "worst E+ max ratio",
-                 "worst inside %", "deepest mm"],
-                [[label, name, str(v["cases"]), str(v["diverged"]), "%.3g" % v["mean_ratio"], "%.3g" % v["max_ratio"],
-                  percent(v["inside"]), mm(v["depth"])] for (label, name), v in summaries.items()]))
+    print(table(["run", "network", "cases", "diverged", "median E+ mean ratio", "worst E+ mean ratio",
+                 "worst E+ max ratio", "worst inside %", "deepest mm"],
+                [[label, name, str(v["cases"]), str(v["diverged"]), median(v["mean_ratios"]), "%.3g" % v["mean_ratio"],
+                  "%.3g" % v["max_ratio"], percent(v["inside"]), mm(v["depth"])] for (label, name), v in summaries.items()]))
 
 
 if __name__ == "__main__":
