@@ -18,8 +18,8 @@
 #   --set K=V     any evaluate-config override for both cases, e.g. --set levels=[1] (repeatable)
 # The full run rolls the solver out for 300 frames per sequence: hours on a CPU. The solver does
 # not depend on the networks, so its run is kept in DIR/<case>.reference.json beside the
-# settings it was run with (config, overrides, pb4u's version) and reused while they match; the networks' run goes to
-# DIR/<case>.networks.json, and the report is built from both.
+# settings it ran with (config, overrides, dataset file, pb4u's version) and reused while they
+# match; the networks' run goes to DIR/<case>.networks.json; the report is built from both.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 out=runs/stability quick=0 reduced=0 fresh=0 cases="body pinned" split="" dataset="" threads=1 models=() extra=()
@@ -67,9 +67,11 @@ runs=()
 for case in $cases; do
   config=configs/eval/heldout.yaml
   [ $case = pinned ] && config=configs/eval/heldout_pinned.yaml
-  # The solver's run, reused while the config, the overrides and the binary's version match.
+  # The solver's run, reused while the config, the overrides, the dataset file (size and time)
+  # and the binary's version match.
   reference=$out/$case.reference.json
-  settings="$config $(sha256sum "$config" | cut -c1-16) ${sets[*]} $("$pb4u" --version 2>&1 | tail -1)"
+  data=${dataset:-$(sed -n 's/^dataset: *//p' "$config" | head -1)}
+  settings="$config $(sha256sum "$config" | cut -c1-16) ${sets[*]} $data $(stat -c '%s %Y' "$data" 2>/dev/null) $("$pb4u" --version 2>&1 | tail -1)"
   if [ $fresh = 0 ] && [ -f "$reference" ] && [ "$(cat "$reference.settings" 2>/dev/null)" = "$settings" ]; then
     echo "stability_report.sh: $case: reusing the solver's run $reference" >&2
   else

@@ -3,13 +3,15 @@
 Usage: stability_table.py RUN.json[,MORE.json ...]:LABEL [...] [--reference NAME] [--note TEXT]
 Each run holds the networks and the reference solver on the same sequences (evaluate's
 per-method "sequences" list); a run given as several comma-separated files (say the networks'
-and a cached solver run of the same config) is their methods merged level by level. Per sequence (garment, motion, body), level and network: its
+and a cached solver run of the same config) is their methods merged level by level.
+Per sequence (garment, motion, body), level and network: its
 positive energy (stretch + bending + collision) as a ratio to the solver's on the same sequence
 (mean per frame, and largest frame), the share of garment vertices inside the body (mean and
 largest over frames), the deepest penetration (mm), and where it diverged. Standard library only."""
 import argparse
 import json
 import math
+import statistics
 import sys
 
 
@@ -101,11 +103,7 @@ def rows_of(run, label, reference):
 
 
 def median(values):
-    if not values:
-        return "n/a"
-    v = sorted(values)
-    n = len(v)
-    return "%.3g" % (v[n // 2] if n % 2 else 0.5 * (v[n // 2 - 1] + v[n // 2]))
+    return "%.3g" % statistics.median(values) if values else "n/a"
 
 
 def table(header, rows):

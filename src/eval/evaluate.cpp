@@ -183,7 +183,7 @@ SequenceResult sequence_result(const Sequence& s, const RolloutResult& r) {
   }
   q.mean = mean_report(r.reports);
   q.positive_energy = positive_energy(*q.mean);
-  for (const auto& report : r.reports) q.max_positive_energy = std::max(q.max_positive_energy, positive_energy(report));
+  q.max_positive_energy = positive_energy_range(r.reports).max;
   if (!r.penetration.empty()) q.penetration = summarize_penetration(r.penetration);
   return q;
 }

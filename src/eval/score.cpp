@@ -97,11 +97,9 @@ ScoreResult score_sequence(const ScoreInput& in) {
   if (r.diverged) result.nonfinite_at_frame = r.diverged_at_frame;
   if (!result.reports.empty()) {
     result.mean = mean_report(result.reports);
-    for (const auto& rep : result.reports) {
-      const double p = positive_energy(rep);
-      result.positive_mean += p / result.reports.size();
-      result.positive_max = std::max(result.positive_max, p);
-    }
+    const PositiveEnergyRange positive = positive_energy_range(result.reports);
+    result.positive_mean = positive.mean;
+    result.positive_max = positive.max;
   }
   if (!result.penetration.empty()) result.penetration_summary = summarize_penetration(result.penetration);
   return result;

@@ -1,5 +1,7 @@
 #include "pb4u/physics/energy_report.h"
 
+#include <algorithm>
+
 #include "pb4u/util/error.h"
 
 namespace pb4u {
@@ -76,6 +78,16 @@ double positive_energy(const EnergyReport& report) {
   for (const auto& [name, value] : report.terms)
     if (is_positive_term(name)) e += value;
   return e;
+}
+
+PositiveEnergyRange positive_energy_range(const std::vector<EnergyReport>& reports) {
+  PositiveEnergyRange range;
+  for (const auto& report : reports) {
+    const double p = positive_energy(report);
+    range.mean += p / reports.size();
+    range.max = std::max(range.max, p);
+  }
+  return range;
 }
 
 }  // namespace pb4u

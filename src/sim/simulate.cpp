@@ -103,11 +103,9 @@ SimulateResult simulate(const SceneConfig& scene, const std::string& scene_path,
   result.diverged_reason = r.diverged_reason;
   result.worst_vertex = r.worst_vertex;
   result.with_body = body_written;
-  for (const auto& rep : r.reports) {
-    const double p = positive_energy(rep);
-    result.positive_mean += p / r.reports.size();
-    result.positive_max = std::max(result.positive_max, p);
-  }
+  const PositiveEnergyRange positive = positive_energy_range(r.reports);
+  result.positive_mean = positive.mean;
+  result.positive_max = positive.max;
   if (!r.penetration.empty()) {
     const PenetrationSummary s = summarize_penetration(r.penetration);
     result.penetrating_mean = s.penetrating_fraction;

@@ -43,6 +43,12 @@ EnergyReport mean_report(const std::vector<EnergyReport>& reports);
 // stability figure: the terms that grow without bound when a rollout blows up (gravity and
 // inertia do not measure a broken cloth).
 double positive_energy(const EnergyReport& report);
+// Positive energy over a sequence of frames: mean per frame and largest frame (both 0 when
+// there are no frames).
+struct PositiveEnergyRange {
+  double mean = 0, max = 0;
+};
+PositiveEnergyRange positive_energy_range(const std::vector<EnergyReport>& reports);
 // Whether the term called `name` counts towards the positive energy.
 bool is_positive_term(const std::string& name);
 
