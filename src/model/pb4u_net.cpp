@@ -89,7 +89,11 @@ torch::Tensor Pb4uNetImpl::forward(const GraphBatch& g, int64_t K, StageTimes* t
   clock.lap(times ? &times->blocks : nullptr);
   auto a = decoder->forward({latent.nodes.narrow(0, 0, g.num_garment_nodes)});
   auto s = update_scale(g.vertex_mean_edge_length, mean_edge_length_base(), config.update_scaling_on());
-  a = a * (s * config.acceleration_unit);
+  if (config.update_scaling == "detail")
+    a = detail_update_scaling(a, s, g.mesh_senders, g.mesh_receivers, g.mean_edge_length, config.smooth_distance);
+  else
+    a = a * s;
+  a = a * config.acceleration_unit;
   clock.lap(times ? &times->decode : nullptr);
   return a;
 }

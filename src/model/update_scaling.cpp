@@ -1,5 +1,11 @@
 #include "pb4u/model/update_scaling.h"
 
+#include <Eigen/Sparse>
+
+#include <algorithm>
+#include <vector>
+#include <cmath>
+
 #include "pb4u/util/error.h"
 
 namespace pb4u {
@@ -9,6 +15,72 @@ torch::Tensor update_scale(const torch::Tensor& vertex_mean_edge_length, double 
   if (!(base > 0))
     throw Error("update scaling: the model is not calibrated (Lbar_base must be positive)");
   return (vertex_mean_edge_length / base).unsqueeze(1);
+}
+
+namespace {
+
+// The same rounds with an Eigen sparse matrix: inference on the CPU (no gradient), where a
+// fine mesh takes ~100 rounds and torch's scatter ops cost ~10x more per round.
+torch::Tensor smooth_over_mesh_eigen(const torch::Tensor& f, const torch::Tensor& senders,
+                                     const torch::Tensor& receivers, int64_t iterations) {
+  using Sparse = Eigen::SparseMatrix<float, Eigen::RowMajor>;
+  using Dense = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  const int64_t n = f.size(0), e = senders.size(0);
+  auto s = senders.to(torch::kInt64).contiguous(), r = receivers.to(torch::kInt64).contiguous();
+  const int64_t* sp = s.data_ptr<int64_t>();
+  const int64_t* rp = r.data_ptr<int64_t>();
+  std::vector<int> degree(n, 0);
+  for (int64_t k = 0; k < e; ++k) ++degree[rp[k]];
+  std::vector<Eigen::Triplet<float>> entries;
+  entries.reserve(e + n);
+  for (int64_t i = 0; i < n; ++i) entries.emplace_back(int(i), int(i), degree[i] > 0 ? 0.5f : 1.0f);
+  for (int64_t k = 0; k < e; ++k) entries.emplace_back(int(rp[k]), int(sp[k]), 0.5f / float(degree[rp[k]]));
+  Sparse P(n, n);
+  P.setFromTriplets(entries.begin(), entries.end());
+  auto in = f.to(torch::kFloat32).contiguous();
+  Dense g = Eigen::Map<const Dense>(in.data_ptr<float>(), n, f.size(1));
+  Dense next(n, f.size(1));
+  for (int64_t i = 0; i < iterations; ++i) {
+    next.noalias() = P * g;
+    g.swap(next);
+  }
+  auto out = torch::empty({n, f.size(1)}, torch::kFloat32);
+  Eigen::Map<Dense>(out.data_ptr<float>(), n, f.size(1)) = g;
+  return out.to(f.scalar_type());
+}
+
+}  // namespace
+
+torch::Tensor smooth_over_mesh(const torch::Tensor& f, const torch::Tensor& senders,
+                               const torch::Tensor& receivers, int64_t iterations) {
+  if (iterations <= 0 || senders.numel() == 0) return f;
+  if (f.device().is_cpu() && !f.requires_grad() && f.scalar_type() == torch::kFloat32)
+    return smooth_over_mesh_eigen(f, senders, receivers, iterations);
+  const int64_t n = f.size(0);
+  auto degree = torch::zeros({n, 1}, f.options())
+                    .index_add_(0, receivers, torch::ones({receivers.size(0), 1}, f.options()));
+  auto has_neighbours = degree > 0;
+  auto inv_degree = 1.0 / degree.clamp_min(1);
+  auto g = f;
+  for (int64_t i = 0; i < iterations; ++i) {
+    auto mean = torch::zeros_like(g).index_add_(0, receivers, g.index_select(0, senders)) * inv_degree;
+    g = torch::where(has_neighbours, 0.5 * (g + mean), g);
+  }
+  return g;
+}
+
+int64_t smoothing_iterations(double distance, double mean_edge_length) {
+  if (!(distance > 0) || !(mean_edge_length > 0))
+    throw Error("update scaling: the smoothing distance and the mean edge length must be positive");
+  const double r = distance / mean_edge_length;
+  return std::max<int64_t>(1, std::llround(r * r));
+}
+
+torch::Tensor detail_update_scaling(const torch::Tensor& a, const torch::Tensor& s,
+                                    const torch::Tensor& senders, const torch::Tensor& receivers,
+                                    double mean_edge_length, double distance) {
+  auto smooth = smooth_over_mesh(a, senders, receivers, smoothing_iterations(distance, mean_edge_length));
+  return smooth + s * (a - smooth);
 }
 
 }  // namespace pb4u

@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <set>
+#include <utility>
 
 #include "model/tiny_scene.h"
 #include "pb4u/graph/build_graph.h"
@@ -59,6 +60,24 @@ TEST(PropagationControl, TrainingSamplesCoverTheConfiguredRange) {
   EXPECT_THROW(sample_propagation_steps(c, rng), Error);
 }
 
+// Two models with the same weights (the second copies the first's), calibrated to 0.037 m and
+// in eval mode: the configs differ only in switches that do not change shapes.
+std::pair<Pb4uNet, Pb4uNet> twin_models(const ModelConfig& first, const ModelConfig& second) {
+  torch::manual_seed(1);
+  Pb4uNet a(first);
+  Pb4uNet b(second);
+  {
+    torch::NoGradGuard g;
+    auto pa = a->named_parameters(), pb = b->named_parameters();
+    for (auto& p : pa) pb[p.key()].copy_(p.value());
+  }
+  for (Pb4uNet* m : {&a, &b}) {
+    (*m)->calibrate(0.037);
+    (*m)->eval();
+  }
+  return {a, b};
+}
+
 TEST(UpdateScaling, MeanIncidentRestEdgeLengthOverBase) {
   // A single right triangle with legs 0.3, 0.4: edges 0.3 (0-1), 0.4 (0-2), 0.5 (1-2).
   TriMesh m;
@@ -79,21 +98,70 @@ TEST(UpdateScaling, ScalingOnIsScalingOffTimesS) {
   GarmentTopology t = build_garment_topology(scene.rest);
   ModelConfig on = test::tiny_config(), off = on;
   off.update_scaling = "off";
-  torch::manual_seed(1);
-  Pb4uNet a(on);
-  Pb4uNet b(off);
-  {
-    torch::NoGradGuard g;
-    auto pa = a->named_parameters(), pb = b->named_parameters();
-    for (auto& p : pa) pb[p.key()].copy_(p.value());
-  }
-  a->calibrate(0.037);
-  b->calibrate(0.037);
-  a->eval();
-  b->eval();
+  auto [a, b] = twin_models(on, off);
   GraphBatch g = build_graph(scene.state, t, GraphOptions{});
   auto s = t.vertex_mean_edge_length.unsqueeze(1) / 0.037;
   EXPECT_TRUE(torch::allclose(a->forward(g, 3), b->forward(g, 3) * s, 1e-5, 1e-6));
+}
+
+TEST(UpdateScaling, SmoothingOneRoundOnATriangleByHand) {
+  // Three mutually connected vertices, f = (1, 0, 0): vertex 0 averages its neighbours' 0 with
+  // its own 1 -> 0.5; vertices 1 and 2 average (1 + 0) / 2 with their own 0 -> 0.25.
+  auto senders = torch::tensor({0, 1, 1, 2, 2, 0}, torch::kInt64);
+  auto receivers = torch::tensor({1, 0, 2, 1, 0, 2}, torch::kInt64);
+  auto f = torch::tensor({{1.0f}, {0.0f}, {0.0f}});
+  auto g = smooth_over_mesh(f, senders, receivers, 1);
+  EXPECT_TRUE(torch::allclose(g, torch::tensor({{0.5f}, {0.25f}, {0.25f}})));
+  EXPECT_NEAR(smooth_over_mesh(f, senders, receivers, 50).sum().item<float>(), 1.0f, 1e-5);  // mean kept
+  EXPECT_TRUE(torch::equal(smooth_over_mesh(f, senders, receivers, 0), f));
+  EXPECT_EQ(smoothing_iterations(0.05, 0.01), 25);
+  EXPECT_EQ(smoothing_iterations(0.05, 0.005), 100);  // half the edge length: 4x the rounds
+  EXPECT_EQ(smoothing_iterations(0.01, 0.05), 1);
+  EXPECT_THROW(smoothing_iterations(0.05, 0.0), Error);
+}
+
+TEST(UpdateScaling, InferenceSmoothingEqualsTheDifferentiableOne) {
+  // Without a gradient the CPU path runs on an Eigen sparse matrix; with one, on torch ops.
+  auto scene = test::tiny_scene(8);
+  GarmentTopology t = build_garment_topology(scene.rest);
+  torch::manual_seed(3);
+  auto f = torch::randn({t.num_vertices, 3});
+  auto fast = smooth_over_mesh(f, t.senders, t.receivers, 17);
+  auto g = f.clone().requires_grad_(true);
+  auto slow = smooth_over_mesh(g, t.senders, t.receivers, 17);
+  EXPECT_TRUE(torch::allclose(fast, slow.detach(), 1e-5, 1e-6));
+  slow.sum().backward();
+  EXPECT_TRUE(g.grad().defined());
+}
+
+TEST(UpdateScaling, DetailScalingKeepsTheSmoothFieldAndScalesTheDetail) {
+  auto scene = test::tiny_scene(8);
+  GarmentTopology t = build_garment_topology(scene.rest);
+  const int64_t n = t.num_vertices;
+  auto s = torch::full({n, 1}, 0.25f);
+  // A uniform field (gravity, a rigid push) is smooth: unscaled at any resolution.
+  auto uniform = torch::tensor({0.0f, -9.8f, 1.0f}).expand({n, 3}).contiguous();
+  auto a = detail_update_scaling(uniform, s, t.senders, t.receivers, t.mean_edge_length, 0.2);
+  EXPECT_TRUE(torch::allclose(a, uniform, 1e-5, 1e-5));
+  // A one-vertex spike is detail: mostly scaled by s; the scaled field is S(f) + s (f - S(f)).
+  auto spike = torch::zeros({n, 3});
+  spike[n / 2][1] = 1.0f;
+  auto b = detail_update_scaling(spike, s, t.senders, t.receivers, t.mean_edge_length, 0.2);
+  auto smooth = smooth_over_mesh(spike, t.senders, t.receivers, smoothing_iterations(0.2, t.mean_edge_length));
+  EXPECT_TRUE(torch::allclose(b, smooth + s * (spike - smooth), 1e-6, 1e-6));
+  EXPECT_LT(b[n / 2][1].item<float>(), 0.5f);
+  EXPECT_GT(b[n / 2][1].item<float>(), 0.25f);
+  // The model applies it: detail = S(a_off) + s (a_off - S(a_off)) with the same weights.
+  ModelConfig detail = test::tiny_config(), off = detail;
+  detail.update_scaling = "detail";
+  detail.smooth_distance = 0.1;
+  off.update_scaling = "off";
+  auto [net_detail, net_off] = twin_models(detail, off);
+  GraphBatch g = build_graph(scene.state, t, GraphOptions{});
+  auto a_off = net_off->forward(g, 3);
+  auto sm = smooth_over_mesh(a_off, g.mesh_senders, g.mesh_receivers, smoothing_iterations(0.1, g.mean_edge_length));
+  auto scale = t.vertex_mean_edge_length.unsqueeze(1) / 0.037;
+  EXPECT_TRUE(torch::allclose(net_detail->forward(g, 3), sm + scale * (a_off - sm), 1e-5, 1e-6));
 }
 
 // Fixed weights: f_m(h_i, h_j, e) = relu(relu(h_i + h_j)) (identity layers, zero biases), so

@@ -13,7 +13,10 @@ namespace pb4u {
 struct ModelConfig {
   std::string kind = "pb4u";               // pb4u | mgn (no propagation: the paper's MGN)
   std::string propagation_control = "on";  // on: K = max(1, floor(D / Lbar)); off: K = K_base
-  std::string update_scaling = "on";       // on: a = s (.) a~; off: s = 1
+  // on: a = s (.) a~ (SPEC 4); off: s = 1; detail: only the acceleration's detail is scaled,
+  // a = S(a~) + s (.) (a~ - S(a~)), S smoothing over smooth_distance (update_scaling.h).
+  std::string update_scaling = "on";
+  double smooth_distance = 0.1;            // m, the length S smooths over (detail only; ~D)
   int latent = 128;                        // width of every latent vector and hidden layer
   int mlp_hidden_layers = 2;               // hidden layers per MLP
   int num_blocks = 15;                     // N MeshGraphNet blocks in the update stack
@@ -36,7 +39,7 @@ struct ModelConfig {
 
   bool is_pb4u() const { return kind == "pb4u"; }
   bool propagation_control_on() const { return propagation_control == "on"; }
-  bool update_scaling_on() const { return update_scaling == "on"; }
+  bool update_scaling_on() const { return update_scaling != "off"; }
   GraphOptions graph_options() const {
     return {world_edge_radius, world_edges == "nearest", material_ranges, world_normal_distance == "on"};
   }
@@ -45,7 +48,8 @@ struct ModelConfig {
   void visit(V& v) {
     v("kind", kind, one_of({"pb4u", "mgn"}));
     v("propagation_control", propagation_control, one_of({"on", "off"}));
-    v("update_scaling", update_scaling, one_of({"on", "off"}));
+    v("update_scaling", update_scaling, one_of({"on", "off", "detail"}));
+    v("smooth_distance", smooth_distance, positive());
     v("latent", latent, int_at_least(1));
     v("mlp_hidden_layers", mlp_hidden_layers, int_at_least(1));
     v("num_blocks", num_blocks, int_at_least(0));
