@@ -149,6 +149,15 @@ void Trainer::start_group(bool resume) {
         load(latest);
         if (distributed) checkpoint_bytes = read_binary_file(latest);
         spdlog::info("resumed {} at step {}", latest, step_);
+      } else if (!config_.run.init_from.empty()) {
+        // Weights and normaliser statistics only: step, optimiser and schedule start afresh.
+        CheckpointMeta meta;
+        try {
+          meta = load_checkpoint(config_.run.init_from, *model_, nullptr, device_);
+        } catch (const Error& e) {
+          throw Error(std::string("run.init_from: ") + e.what());
+        }
+        spdlog::info("initialised from {} (trained {} steps)", config_.run.init_from, meta.step);
       }
     } catch (const Error& e) {
       if (!distributed) throw;

@@ -136,6 +136,38 @@ TEST(Trainer, StoppedAndResumedRunEqualsUninterrupted) {
   for (size_t i = 0; i < rows.size(); ++i) EXPECT_EQ(rows[i][0].second, double(i + 1));
 }
 
+// Fine-tuning: run.init_from starts a new run (step 0, fresh optimiser) from another run's
+// weights and normaliser statistics; the model config may differ where shapes do not.
+TEST(Trainer, InitFromStartsANewRunFromAnotherRunsWeights) {
+  configure_threads(1);
+  const std::string a_dir = test::temp_dir("init_a"), b_dir = test::temp_dir("init_b");
+  Trainer a = make_trainer(tiny_config(a_dir, {"run.steps=12"}));
+  a.run();
+  TrainConfig b_cfg = tiny_config(b_dir, {"run.init_from=" + a_dir + "/final.pt", "run.seed=7",
+                                          "model.update_scaling=detail"});
+  Trainer b = make_trainer(b_cfg);
+  EXPECT_EQ(b.step(), 0);
+  auto pa = a.model()->named_parameters(), pb = b.model()->named_parameters();
+  for (const auto& p : pa) EXPECT_TRUE(torch::equal(p.value(), pb[p.key()])) << p.key();
+  auto ba = a.model()->named_buffers(), bb = b.model()->named_buffers();
+  for (const auto& p : ba) EXPECT_TRUE(torch::equal(p.value(), bb[p.key()])) << p.key();
+  b.run(/*stop_at=*/2);
+  EXPECT_EQ(b.step(), 2);
+  // Without init_from the same seed-7 run starts from other weights.
+  Trainer c = make_trainer(tiny_config(test::temp_dir("init_c"), {"run.seed=7"}));
+  bool differs = false;
+  for (const auto& p : pa) differs = differs || !torch::equal(p.value(), c.model()->named_parameters()[p.key()]);
+  EXPECT_TRUE(differs);
+  // A missing file names the key and the file.
+  try {
+    make_trainer(tiny_config(test::temp_dir("init_d"), {"run.init_from=" + a_dir + "/missing.pt"}));
+    ADD_FAILURE() << "expected an error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("run.init_from"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("missing.pt"), std::string::npos) << e.what();
+  }
+}
+
 TEST(TrainCommand, WritesRunFilesAndRefusesToClobber) {
   const std::string out = test::temp_dir("train_cli") + "/run";
   const std::string args = "-q train --config " + kSource + "/configs/train/tiny.yaml --set run.steps=6 "

@@ -22,6 +22,9 @@ struct RunConfig {
   int keep_checkpoints = 3;
   std::string device = "cpu";      // cpu | cuda
   int threads = 0;                 // torch intra-op threads, 0 = all cores (--threads wins)
+  // A training checkpoint whose weights and normaliser statistics start a new run (fine-tuning):
+  // step, optimiser and schedule start afresh from this config. Ignored by --resume.
+  std::string init_from;
 
   template <class V>
   void visit(V& v) {
@@ -33,6 +36,7 @@ struct RunConfig {
     v("keep_checkpoints", keep_checkpoints, int_at_least(1));
     v("device", device, one_of({"cpu", "cuda"}));
     v("threads", threads, int_at_least(0));
+    v("init_from", init_from);
   }
 };
 
