@@ -16,13 +16,18 @@ void add_export_command(CLI::App& app, const GlobalOptions& global) {
       "attributes. Readable by h5ls/h5py; evaluate and simulate load it like a checkpoint.");
   struct Args {
     std::string checkpoint, out;
+    std::vector<std::string> sets;
   };
   auto args = std::make_shared<Args>();
   cmd->add_option("--checkpoint", args->checkpoint, "Training checkpoint (.pt) or an export")->required();
   cmd->add_option("--out,-o", args->out, "Output file (.h5)")->required();
+  cmd->add_option("--set", args->sets,
+                  "Change an inference-time switch of the stored model config, e.g. --set\n"
+                  "update_scaling=detail (update_scaling, smooth_distance, propagation_control only)");
   cmd->callback([args, &global] {
     apply_global_options(global);
-    const ModelFile model = load_model_file(args->checkpoint);
+    ModelFile model = load_model_file(args->checkpoint);
+    set_inference_switches(model, args->sets);
     export_model_file(model, args->out);
     spdlog::info("exported {} ({}, step {}, {} parameters) to {}", args->checkpoint,
                  method_name(model.config), model.step, parameter_count(*model.model), args->out);

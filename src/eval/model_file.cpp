@@ -2,6 +2,8 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <sstream>
+
 #include <cstring>
 #include <fstream>
 #include <map>
@@ -112,6 +114,27 @@ ModelFile load_model_file(const std::string& path) {
   if (!m.model->calibrated()) fail_file(path, "the model was never calibrated (Lbar_base = 0)");
   m.model->eval();
   return m;
+}
+
+void set_inference_switches(ModelFile& model, const std::vector<std::string>& assignments) {
+  if (assignments.empty()) return;
+  YAML::Node node = YAML::Load(model.config_yaml);
+  for (const std::string& a : assignments) {
+    const auto eq = a.find('=');
+    std::string key = a.substr(0, eq);
+    if (key.rfind("model.", 0) == 0) key = key.substr(6);
+    if (eq == std::string::npos || eq + 1 == a.size())
+      throw Error("--set " + a + ": expected KEY=VALUE");
+    if (key != "update_scaling" && key != "smooth_distance" && key != "propagation_control")
+      throw Error("--set " + a + ": only update_scaling, smooth_distance and propagation_control can change "
+                  "without retraining (the weights stay as trained)");
+    node[key] = a.substr(eq + 1);
+  }
+  std::stringstream yaml;
+  yaml << node;
+  model.config = parse_model_config(yaml.str(), "", "--set");
+  model.config_yaml = config_to_yaml(model.config);
+  model.model->config = model.config;
 }
 
 void export_model_file(const ModelFile& model, const std::string& out) {

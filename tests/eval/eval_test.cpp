@@ -96,6 +96,27 @@ TEST(ModelFile, ExportLoadsWithIdenticalPredictions) {
   EXPECT_GT((a - state.x).abs().max().item<double>(), 0.0);  // the step did move the cloth
 }
 
+TEST(ModelFile, ExportSetChangesOnlyInferenceSwitches) {
+  const std::string dir = test::temp_dir("export_set");
+  auto r = test::run_pb4u("-q export --checkpoint " + tiny_checkpoint() + " --out " + dir +
+                          "/detail.h5 --set update_scaling=detail --set model.smooth_distance=0.08");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  ModelFile ckpt = load_model_file(tiny_checkpoint()), detail = load_model_file(dir + "/detail.h5");
+  EXPECT_EQ(ckpt.config.update_scaling, "on");
+  EXPECT_EQ(detail.config.update_scaling, "detail");
+  EXPECT_DOUBLE_EQ(detail.config.smooth_distance, 0.08);
+  EXPECT_EQ(detail.model->config.update_scaling, "detail");  // the network computes with it
+  auto pa = ckpt.model->named_parameters(), pb = detail.model->named_parameters();
+  for (const auto& p : pa) EXPECT_TRUE(torch::equal(p.value(), pb[p.key()])) << p.key();
+  // Anything that would need other weights, or a bad value, is refused naming the key; no file.
+  for (const std::string& bad : {std::string("latent=32"), std::string("update_scaling=half")}) {
+    auto e = test::run_pb4u("export --checkpoint " + tiny_checkpoint() + " --out " + dir + "/bad.h5 --set " + bad);
+    EXPECT_EQ(e.exit_code, 1) << bad;
+    EXPECT_NE(e.err.find(bad.substr(0, bad.find('='))), std::string::npos) << e.err;
+    EXPECT_FALSE(fs::exists(dir + "/bad.h5"));
+  }
+}
+
 TEST(ModelFile, CorruptOrMismatchedFilesFailNamingTheFile) {
   const ModelFile ckpt = load_model_file(tiny_checkpoint());
   const std::string dir = test::temp_dir("badmodel");

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <ostream>
 #include <string>
+#include <vector>
 
 #include "pb4u/model/model_config.h"
 #include "pb4u/model/pb4u_net.h"
@@ -31,6 +32,11 @@ struct ModelFile {
 // the file when it is missing, corrupt, of another format/version, or does not match its
 // own config.
 ModelFile load_model_file(const std::string& path);
+
+// Changes switches that alter what the network computes but not its weights: `key=value` with
+// key update_scaling, smooth_distance or propagation_control (an optional "model." prefix is
+// accepted). Any other key, or a bad value, is a pb4u::Error naming the key.
+void set_inference_switches(ModelFile& model, const std::vector<std::string>& assignments);
 
 // True when `path` is an HDF5 file carrying the export's format attribute (never throws).
 bool is_model_export(const std::string& path);
