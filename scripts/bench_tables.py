@@ -1,0 +1,118 @@
+#!/usr/bin/python3
+"""Print docs/performance.md's three bench tables from a `pb4u bench` run's bench_details.csv.
+
+  /usr/bin/python3 scripts/bench_tables.py runs/bench/blender/bench_details.csv
+
+- Table 3: latency (median ms), total and positive loss (J per frame) and the share inside the
+  body for Pb4U, MGN, the 100-iteration reference solver and Blender's two qualities.
+- Equal loss: per network, the cheapest reference budget (fewest iterations, with a body, not
+  stopped by the divergence guard) whose total loss is at or below the network's, its latency
+  and the speed-up; Blender quality 15 beside Pb4U.
+- Figure 5: the Pb4U weights at fixed K against the resolution-aware K, and the same weights
+  with update scaling switched off at inference.
+Methods missing from a run leave "-" in their cells.
+"""
+import csv
+import re
+import sys
+
+
+def load(path):
+    with open(path, newline="") as f:
+        rows = list(csv.DictReader(f))
+    for r in rows:
+        for key in ("level", "triangles", "K", "iterations"):
+            r[key] = int(r[key])
+        for key in ("latency_ms_median", "physics_loss", "positive_loss", "penetrating_fraction"):
+            r[key] = float(r[key]) if r[key] != "" else 0.0  # no body: no penetration
+        r["diverged"] = r["diverged"] == "true"
+    return rows
+
+
+def fmt(x, digits=3):
+    if x is None:
+        return "-"
+    if x != 0 and (abs(x) >= 1e4 or abs(x) < 1e-3):
+        return f"{x:.2e}"
+    return f"{x:#.{digits}g}".rstrip(".")
+
+
+def ms(x):
+    return "-" if x is None else f"{x:.1f}" if x < 1000 else f"{x:.0f}"
+
+
+def main(path):
+    rows = load(path)
+    levels = sorted({r["level"] for r in rows})
+
+    def get(level, method):
+        for r in rows:
+            if r["level"] == level and r["method"] == method:
+                return r
+        return None
+
+    def field(r, key, scale=1.0):
+        return None if r is None else r[key] * scale
+
+    print("Table 3\n")
+    print("| level | triangles | Pb4U K | Pb4U ms | MGN ms | Ref. 100 it ms | Blender q5 ms | Blender q15 ms "
+          "| Pb4U total | MGN total | Ref. total | Blender q5 total | Blender q15 total | Pb4U E+ | MGN E+ "
+          "| Ref. E+ | Blender q15 E+ | Pb4U inside % | MGN inside % | Blender q15 inside % |")
+    print("|" + "---|" * 20)
+    for lv in levels:
+        p, m, ref = get(lv, "Pb4U"), get(lv, "MGN"), get(lv, "Reference (100 it)")
+        b5, b15 = get(lv, "Blender (quality 5)"), get(lv, "Blender (quality 15)")
+        cells = [f"Lv.{lv}", str((p or m or ref)["triangles"]), str(p["K"]) if p else "-"]
+        cells += [ms(field(r, "latency_ms_median")) for r in (p, m, ref, b5, b15)]
+        cells += [fmt(field(r, "physics_loss"), 4) for r in (p, m, ref, b5, b15)]
+        cells += [fmt(field(r, "positive_loss")) for r in (p, m, ref, b15)]
+        cells += ["-" if r is None else f"{100 * r['penetrating_fraction']:.2f}" for r in (p, m, b15)]
+        print("| " + " | ".join(cells) + " |")
+
+    print("\nEqual loss\n")
+    print("| level | network | its loss J | cheapest reference budget at or below it | its ms | speed-up "
+          "| best Blender (q15) loss J / ms |")
+    print("|---|---|---|---|---|---|---|")
+    budget = re.compile(r"^Reference \((\d+) it\)$")
+    for lv in levels:
+        refs = sorted((int(budget.match(r["method"]).group(1)), r) for r in rows
+                      if r["level"] == lv and budget.match(r["method"]) and not r["diverged"])
+        for name in ("Pb4U", "MGN"):
+            net = get(lv, name)
+            if net is None:
+                continue
+            match = next(((it, r) for it, r in refs if r["physics_loss"] <= net["physics_loss"]), None)
+            cells = [f"Lv.{lv}", name, fmt(net["physics_loss"], 4)]
+            if match:
+                it, r = match
+                cells += [f"{it} it ({fmt(r['physics_loss'], 4)} J)", ms(r["latency_ms_median"]),
+                          f"{r['latency_ms_median'] / net['latency_ms_median']:.1f}x"]
+            else:
+                cells += ["none", "-", "-"]
+            b15 = get(lv, "Blender (quality 15)")
+            cells.append(f"{fmt(b15['physics_loss'])} / {ms(b15['latency_ms_median'])}" if b15 and name == "Pb4U" else "")
+            print("| " + " | ".join(cells) + " |")
+
+    print("\nFigure 5\n")
+    print("| level | own K | own total J | best fixed K | its total J | own / best | E+ at K = 0 | own E+ "
+          "| E+ at best K | E+ w/o update scaling |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
+    for lv in levels:
+        own = get(lv, "Pb4U")
+        fixed = [r for r in rows if r["level"] == lv and r["method"] == "Pb4U (fixed K)"]
+        if own is None or not fixed:
+            continue
+        best = min(fixed, key=lambda r: r["physics_loss"])
+        k0 = next((r for r in fixed if r["K"] == 0), None)
+        no_us = get(lv, "Pb4U w/o US (same weights)")
+        print("| " + " | ".join([
+            f"Lv.{lv}", str(own["K"]), fmt(own["physics_loss"], 4), str(best["K"]), fmt(best["physics_loss"], 4),
+            f"{own['physics_loss'] / best['physics_loss']:.2f}", fmt(field(k0, "positive_loss")),
+            fmt(own["positive_loss"]), fmt(best["positive_loss"]), fmt(field(no_us, "positive_loss"), 4)]) + " |")
+
+
+if __name__ == "__main__":
+    if len(sys.argv) != 2 or sys.argv[1] in ("-h", "--help"):
+        print(__doc__.strip())
+        sys.exit(0 if len(sys.argv) == 2 else 2)
+    main(sys.argv[1])
