@@ -2,11 +2,10 @@
 
 #include <yaml-cpp/yaml.h>
 
-#include <sstream>
-
 #include <cstring>
 #include <fstream>
 #include <map>
+#include <sstream>
 
 #include "pb4u/io/module_hdf5.h"
 #include "pb4u/train/checkpoint.h"
