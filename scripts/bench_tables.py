@@ -5,9 +5,10 @@
 
 - Table 3: latency (median ms), total and positive loss (J per frame) and the share inside the
   body for Pb4U, MGN, the 100-iteration reference solver and Blender's two qualities.
-- Equal loss: per network, the cheapest reference budget (fewest iterations, with a body, not
-  stopped by the divergence guard) whose total loss is at or below the network's, its latency
-  and the speed-up; Blender quality 15 beside Pb4U.
+- Equal loss: per network, the fastest reference budget (with a body, not stopped by the
+  divergence guard) whose total loss is at or below the network's, its latency and the
+  speed-up: the rule of bench's own table.txt (cheapest_at_equal_loss); Blender quality 15
+  beside Pb4U.
 - Figure 5: the Pb4U weights at fixed K against the resolution-aware K, and the same weights
   with update scaling switched off at inference.
 Methods missing from a run leave "-" in their cells.
@@ -51,8 +52,8 @@ def main(path):
                 return r
         return None
 
-    def field(r, key, scale=1.0):
-        return None if r is None else r[key] * scale
+    def field(r, key):
+        return None if r is None else r[key]
 
     print("Table 3\n")
     print("| level | triangles | Pb4U K | Pb4U ms | MGN ms | Ref. 100 it ms | Blender q5 ms | Blender q15 ms "
@@ -75,13 +76,14 @@ def main(path):
     print("|---|---|---|---|---|---|---|")
     budget = re.compile(r"^Reference \((\d+) it\)$")
     for lv in levels:
-        refs = sorted((int(budget.match(r["method"]).group(1)), r) for r in rows
-                      if r["level"] == lv and budget.match(r["method"]) and not r["diverged"])
+        refs = sorted(((r["latency_ms_median"], int(budget.match(r["method"]).group(1)), r) for r in rows
+                       if r["level"] == lv and budget.match(r["method"]) and not r["diverged"]),
+                      key=lambda t: t[0])
         for name in ("Pb4U", "MGN"):
             net = get(lv, name)
             if net is None:
                 continue
-            match = next(((it, r) for it, r in refs if r["physics_loss"] <= net["physics_loss"]), None)
+            match = next(((it, r) for _, it, r in refs if r["physics_loss"] <= net["physics_loss"]), None)
             cells = [f"Lv.{lv}", name, fmt(net["physics_loss"], 4)]
             if match:
                 it, r = match

@@ -138,6 +138,32 @@ TEST(Bench, LatencyExponentIsTheLogLogSlope) {
   EXPECT_TRUE(std::isnan(latency_exponent(rows, "other")));
 }
 
+TEST(Bench, EqualLossTakesTheFastestFinishedRunAtOrBelowTheNetworksLoss) {
+  auto row = [](int level, const std::string& method, const std::string& family, double ms, double loss,
+                bool diverged = false) {
+    BenchRow r;
+    r.level = level;
+    r.method = method;
+    r.family = family;
+    r.latency_ms_median = ms;
+    r.physics_loss = loss;
+    r.diverged = diverged;
+    return r;
+  };
+  std::vector<BenchRow> rows = {
+      row(1, "Net", "network", 10, 2.0),
+      row(1, "Reference (1 it)", "reference", 20, 1.5, /*diverged=*/true),  // low loss, stopped early
+      row(1, "Reference (10 it)", "reference", 100, 2.5),                   // above the network's loss
+      row(1, "Reference (30 it)", "reference", 300, 1.9),
+      row(1, "Reference (100 it)", "reference", 900, 1.2),
+      row(2, "Reference (3 it)", "reference", 50, 1.0),  // another level
+      row(1, "Blender (quality 5)", "blender", 40, 30.0)};
+  const BenchRow* best = cheapest_at_equal_loss(rows, rows[0], "reference");
+  ASSERT_NE(best, nullptr);
+  EXPECT_EQ(best->method, "Reference (30 it)");
+  EXPECT_EQ(cheapest_at_equal_loss(rows, rows[0], "blender"), nullptr);
+}
+
 TEST(Bench, BadConfigsFailWithTheKey) {
   const std::string out = test::temp_dir("bench_bad");
   auto r = test::run_pb4u(bench_args(out, "--set ablations=[no_such]"));

@@ -130,6 +130,12 @@ std::string format_stages_csv(const BenchResult& result);
 // loss and the fitted latency exponents.
 std::string format_bench_table(const BenchResult& result);
 
+// The fastest run of `family` at `net`'s level whose loss is at or below the network's, or null.
+// A run the divergence guard stopped does not count: its loss covers only the frames before the
+// stop.
+const BenchRow* cheapest_at_equal_loss(const std::vector<BenchRow>& rows, const BenchRow& net,
+                                       const std::string& family);
+
 // Least-squares slope of log(latency) on log(vertices) over the rows of `method` (NaN if
 // fewer than two levels).
 double latency_exponent(const std::vector<BenchRow>& rows, const std::string& method);
