@@ -5,6 +5,7 @@
 
 #include "pb4u/mesh/edges.h"
 #include "pb4u/mesh/geometry.h"
+#include "pb4u/mesh/lazy_averaging.h"
 #include "pb4u/spatial/point_kd_tree.h"
 #include "pb4u/util/error.h"
 
@@ -24,19 +25,12 @@ Eigen::MatrixXd smooth_skin_weights(const TriMesh& mesh, const Eigen::MatrixXd& 
   if (!(length > 0) || mesh.F.rows() == 0) return W;
   const double lbar = mean_edge_length(mesh.V, mesh.F);
   if (!(lbar > 0)) return W;
-  const Eigen::MatrixXi E = unique_edges(mesh.F);
+  const auto P = lazy_averaging_matrix<double>(W.rows(), unique_edges(mesh.F));
   const int steps = static_cast<int>(std::ceil(2.0 * (length / lbar) * (length / lbar)));
-  std::vector<int> degree(W.rows(), 0);
-  for (Eigen::Index e = 0; e < E.rows(); ++e) ++degree[E(e, 0)], ++degree[E(e, 1)];
-  Eigen::MatrixXd cur = W, sum(W.rows(), W.cols());
+  Eigen::MatrixXd cur = W, next(W.rows(), W.cols());
   for (int s = 0; s < steps; ++s) {
-    sum.setZero();
-    for (Eigen::Index e = 0; e < E.rows(); ++e) {
-      sum.row(E(e, 0)) += cur.row(E(e, 1));
-      sum.row(E(e, 1)) += cur.row(E(e, 0));
-    }
-    for (Eigen::Index i = 0; i < cur.rows(); ++i)
-      if (degree[i] > 0) cur.row(i) = 0.5 * (cur.row(i) + sum.row(i) / degree[i]);
+    next.noalias() = P * cur;
+    cur.swap(next);
   }
   for (Eigen::Index i = 0; i < cur.rows(); ++i) {
     const double total = cur.row(i).sum();

@@ -1,11 +1,9 @@
 #include "pb4u/model/update_scaling.h"
 
-#include <Eigen/Sparse>
-
 #include <algorithm>
 #include <cmath>
-#include <vector>
 
+#include "pb4u/mesh/lazy_averaging.h"
 #include "pb4u/util/error.h"
 
 namespace pb4u {
@@ -24,20 +22,10 @@ namespace {
 // this path adds no measurable time to the step.
 torch::Tensor smooth_over_mesh_eigen(const torch::Tensor& f, const torch::Tensor& senders,
                                      const torch::Tensor& receivers, int64_t iterations) {
-  using Sparse = Eigen::SparseMatrix<float, Eigen::RowMajor>;
   using Dense = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-  const int64_t n = f.size(0), e = senders.size(0);
+  const int64_t n = f.size(0);
   auto s = senders.to(torch::kInt64).contiguous(), r = receivers.to(torch::kInt64).contiguous();
-  const int64_t* sp = s.data_ptr<int64_t>();
-  const int64_t* rp = r.data_ptr<int64_t>();
-  std::vector<int> degree(n, 0);
-  for (int64_t k = 0; k < e; ++k) ++degree[rp[k]];
-  std::vector<Eigen::Triplet<float>> entries;
-  entries.reserve(e + n);
-  for (int64_t i = 0; i < n; ++i) entries.emplace_back(int(i), int(i), degree[i] > 0 ? 0.5f : 1.0f);
-  for (int64_t k = 0; k < e; ++k) entries.emplace_back(int(rp[k]), int(sp[k]), 0.5f / float(degree[rp[k]]));
-  Sparse P(n, n);
-  P.setFromTriplets(entries.begin(), entries.end());
+  const auto P = lazy_averaging_matrix<float>(n, s.data_ptr<int64_t>(), r.data_ptr<int64_t>(), s.size(0));
   auto in = f.to(torch::kFloat32).contiguous();
   Dense g = Eigen::Map<const Dense>(in.data_ptr<float>(), n, f.size(1));
   Dense next(n, f.size(1));

@@ -12,9 +12,10 @@ torch::Tensor update_scale(const torch::Tensor& vertex_mean_edge_length, double 
                            bool enabled);
 
 // Lazy neighbour averaging of a per-vertex field f (n, c) over directed edges (both directions
-// listed): f <- (f + mean of the neighbours' f) / 2, `iterations` times. Each round spreads the
-// field by ~0.7 edge lengths, so n = (L / Lbar)^2 rounds smooth over ~L whatever the resolution.
-// Linear and differentiable; isolated vertices keep their value.
+// listed): f <- (f + mean of the neighbours' f) / 2, `iterations` times (mesh/lazy_averaging.h).
+// n rounds spread the field over ~0.7 sqrt(n) edge lengths (rms), so n = (L / Lbar)^2 rounds
+// reach ~0.7 L whatever the resolution. Linear and differentiable; isolated vertices keep their
+// value.
 torch::Tensor smooth_over_mesh(const torch::Tensor& f, const torch::Tensor& senders,
                                const torch::Tensor& receivers, int64_t iterations);
 
