@@ -76,8 +76,8 @@ Eigen::Vector3d pseudo_normal(const Surface& s, int f, TriangleFeature feature) 
 
 }  // namespace
 
-Eigen::VectorXd signed_distance_to_surface(const Eigen::MatrixXd& points, const Eigen::MatrixXd& V,
-                                           const Eigen::MatrixXi& F) {
+SurfaceProjection project_onto_surface(const Eigen::MatrixXd& points, const Eigen::MatrixXd& V,
+                                       const Eigen::MatrixXi& F) {
   if (points.cols() != 3 || V.cols() != 3 || F.cols() != 3)
     throw Error("signed distance: points, surface vertices and faces must have 3 columns");
   if (!points.allFinite()) throw Error("signed distance: the points are not finite");
@@ -96,7 +96,10 @@ Eigen::VectorXd signed_distance_to_surface(const Eigen::MatrixXd& points, const 
   Eigen::VectorXi nearest;
   tree.nearest(points, &nearest);
 
-  Eigen::VectorXd out(points.rows());
+  SurfaceProjection out;
+  out.distance.resize(points.rows());
+  out.closest.resize(points.rows(), 3);
+  out.outward.resize(points.rows(), 3);
   for (Eigen::Index i = 0; i < points.rows(); ++i) {
     const Eigen::Vector3d p = points.row(i).transpose();
     auto closest_on = [&](int f) { return closest_point_on_triangle(p, s.corner(f, 0), s.corner(f, 1), s.corner(f, 2)); };
@@ -112,10 +115,20 @@ Eigen::VectorXd signed_distance_to_surface(const Eigen::MatrixXd& points, const 
       if (d2 < best_d2) best_d2 = d2, best = q, best_face = f;
     }
     const double d = std::sqrt(best_d2);
-    const bool inside = (p - best.point).dot(pseudo_normal(s, best_face, best.feature)) < 0;
-    out(i) = inside ? -d : d;
+    const Eigen::Vector3d normal = pseudo_normal(s, best_face, best.feature);
+    const bool inside = (p - best.point).dot(normal) < 0;
+    out.distance(i) = inside ? -d : d;
+    out.closest.row(i) = best.point.transpose();
+    Eigen::Vector3d outward = normal.normalized();  // on the surface
+    if (d > 1e-12 * (1 + p.norm())) outward = (inside ? -1.0 : 1.0) * (p - best.point) / d;
+    out.outward.row(i) = outward.transpose();
   }
   return out;
+}
+
+Eigen::VectorXd signed_distance_to_surface(const Eigen::MatrixXd& points, const Eigen::MatrixXd& V,
+                                           const Eigen::MatrixXi& F) {
+  return project_onto_surface(points, V, F).distance;
 }
 
 }  // namespace pb4u

@@ -20,4 +20,16 @@ namespace pb4u {
 Eigen::VectorXd signed_distance_to_surface(const Eigen::MatrixXd& points, const Eigen::MatrixXd& V,
                                            const Eigen::MatrixXi& F);
 
+// The same query with where it lands: per point the signed distance (m, negative inside),
+// the closest surface point and the unit outward direction there (from the closest point
+// towards an outside point, away from an inside one; the pseudo-normal where the point lies
+// on the surface).
+struct SurfaceProjection {
+  Eigen::VectorXd distance;  // n
+  Eigen::MatrixXd closest;   // n x 3 m
+  Eigen::MatrixXd outward;   // n x 3 unit
+};
+SurfaceProjection project_onto_surface(const Eigen::MatrixXd& points, const Eigen::MatrixXd& V,
+                                       const Eigen::MatrixXi& F);
+
 }  // namespace pb4u
