@@ -124,9 +124,10 @@ void set_inference_switches(ModelFile& model, const std::vector<std::string>& as
     if (key.rfind("model.", 0) == 0) key = key.substr(6);
     if (eq == std::string::npos || eq + 1 == a.size())
       throw Error("--set " + a + ": expected KEY=VALUE");
-    if (key != "update_scaling" && key != "smooth_distance" && key != "propagation_control")
-      throw Error("--set " + a + ": only update_scaling, smooth_distance and propagation_control can change "
-                  "without retraining (the weights stay as trained)");
+    if (key != "update_scaling" && key != "smooth_distance" && key != "propagation_control" &&
+        key != "contact_projection")
+      throw Error("--set " + a + ": only update_scaling, smooth_distance, propagation_control and "
+                  "contact_projection can change without retraining (the weights stay as trained)");
     node[key] = a.substr(eq + 1);
   }
   std::stringstream yaml;
@@ -156,13 +157,21 @@ void export_model_file(const ModelFile& model, const std::string& out) {
   save_module_hdf5(out, *model.model, attrs);
 }
 
-std::string method_name(const ModelConfig& config) {
+namespace {
+
+std::string network_name(const ModelConfig& config) {
   // The paper's MGN is fixed-depth and unscaled; with update scaling on it is another model.
   if (!config.is_pb4u()) return config.update_scaling_on() ? "MGN w/ US" : "MGN";
   const bool pc = config.propagation_control_on(), us = config.update_scaling_on();
   if (pc && us) return "Pb4U";
   if (!pc && !us) return "Pb4U w/o both";
   return pc ? "Pb4U w/o US" : "Pb4U w/o PC";
+}
+
+}  // namespace
+
+std::string method_name(const ModelConfig& config) {
+  return network_name(config) + (config.contact_projection > 0 ? " + projection" : "");
 }
 
 int64_t parameter_count(const torch::nn::Module& module) {

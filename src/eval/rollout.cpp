@@ -6,6 +6,7 @@
 
 #include "pb4u/data/lbs_frame.h"
 #include "pb4u/physics/cloth_geometry.h"
+#include "pb4u/physics/contact_projection.h"
 #include "pb4u/physics/reference_solver.h"
 #include "pb4u/util/error.h"
 
@@ -32,22 +33,26 @@ RolloutInput lbs_rollout_input(const Body& body, const Garment& garment, const M
 
 StepFunction network_stepper(const ModelFile& model, const GarmentTopology& topology, int64_t k_override) {
   Pb4uNet net = model.model;
+  const double gap = model.config.contact_projection;
   // The network (graph building included) runs where its weights are (--device); the
-  // float64 physics state and metrics stay on the host.
+  // float64 physics state, metrics and the contact projection stay on the host.
   const torch::Device device = net->parameters().front().device();
+  auto project = [gap](const FrameState& state, torch::Tensor x_next, const BodyContact* contact) {
+    return project_out_of_body(x_next, state, contact, gap);
+  };
   if (device.is_cpu())
-    return [net, topology, k_override](const FrameState& state, const ClothGeometry&, const TermList&,
-                                       const BodyContact*) mutable {
-      return net->step(state, topology, k_override).to(torch::kFloat64);
+    return [net, topology, k_override, project](const FrameState& state, const ClothGeometry&, const TermList&,
+                                                const BodyContact* contact) mutable {
+      return project(state, net->step(state, topology, k_override).to(torch::kFloat64), contact);
     };
   GarmentTopology on_device = garment_topology_to(topology, device);
-  return [net, on_device, device, k_override](const FrameState& state, const ClothGeometry&, const TermList&,
-                                  const BodyContact*) mutable {
+  return [net, on_device, device, k_override, project](const FrameState& state, const ClothGeometry&,
+                                                       const TermList&, const BodyContact* contact) mutable {
     FrameState s = state;
     for (torch::Tensor* t : {&s.x, &s.x_prev, &s.pinned, &s.pin_targets, &s.body.vertices,
                              &s.body.next_vertices, &s.body.faces})
       if (t->defined()) *t = t->to(device);
-    return net->step(s, on_device, k_override).to(torch::kCPU, torch::kFloat64);
+    return project(state, net->step(s, on_device, k_override).to(torch::kCPU, torch::kFloat64), contact);
   };
 }
 

@@ -99,12 +99,14 @@ TEST(ModelFile, ExportLoadsWithIdenticalPredictions) {
 TEST(ModelFile, ExportSetChangesOnlyInferenceSwitches) {
   const std::string dir = test::temp_dir("export_set");
   auto r = test::run_pb4u("-q export --checkpoint " + tiny_checkpoint() + " --out " + dir +
-                          "/detail.h5 --set update_scaling=detail --set model.smooth_distance=0.08");
+                          "/detail.h5 --set update_scaling=detail --set model.smooth_distance=0.08 --set contact_projection=0.002");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   ModelFile ckpt = load_model_file(tiny_checkpoint()), detail = load_model_file(dir + "/detail.h5");
   EXPECT_EQ(ckpt.config.update_scaling, "on");
   EXPECT_EQ(detail.config.update_scaling, "detail");
   EXPECT_DOUBLE_EQ(detail.config.smooth_distance, 0.08);
+  EXPECT_DOUBLE_EQ(detail.config.contact_projection, 0.002);
+  EXPECT_EQ(ckpt.config.contact_projection, 0.0);
   EXPECT_EQ(detail.model->config.update_scaling, "detail");  // the network computes with it
   auto pa = ckpt.model->named_parameters(), pb = detail.model->named_parameters();
   for (const auto& p : pa) EXPECT_TRUE(torch::equal(p.value(), pb[p.key()])) << p.key();
@@ -172,6 +174,8 @@ TEST(MethodName, FollowsTheModelConfig) {
   EXPECT_EQ(method_name(c), "MGN w/ US");
   c.update_scaling = "off";
   EXPECT_EQ(method_name(c), "MGN");  // the paper's baseline: fixed depth, no scaling
+  c.contact_projection = 0.002;
+  EXPECT_EQ(method_name(c), "MGN + projection");
 }
 
 TEST(Evaluate, JsonHasEveryActiveTermPerLevelAndMethod) {

@@ -17,6 +17,9 @@ struct ModelConfig {
   // a = S(a~) + s (.) (a~ - S(a~)), S smoothing over smooth_distance (update_scaling.h).
   std::string update_scaling = "on";
   double smooth_distance = 0.1;            // m, the length S smooths over (detail only; ~D)
+  // m; > 0: at inference each step's garment is pushed out of the body to this distance
+  // (physics/contact_projection.h), 0: the network's step as it is (training never projects).
+  double contact_projection = 0.0;
   int latent = 128;                        // width of every latent vector and hidden layer
   int mlp_hidden_layers = 2;               // hidden layers per MLP
   int num_blocks = 15;                     // N MeshGraphNet blocks in the update stack
@@ -50,6 +53,7 @@ struct ModelConfig {
     v("propagation_control", propagation_control, one_of({"on", "off"}));
     v("update_scaling", update_scaling, one_of({"on", "off", "detail"}));
     v("smooth_distance", smooth_distance, positive());
+    v("contact_projection", contact_projection, in_range(0.0, 0.05));
     v("latent", latent, int_at_least(1));
     v("mlp_hidden_layers", mlp_hidden_layers, int_at_least(1));
     v("num_blocks", num_blocks, int_at_least(0));
