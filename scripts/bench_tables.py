@@ -11,7 +11,8 @@
   beside Pb4U.
 - Figure 5: the Pb4U weights at fixed K against the resolution-aware K, and the same weights
   with update scaling switched off at inference.
-Methods missing from a run leave "-" in their cells.
+Methods missing from a run leave "-" in their cells. The networks are found by family and name
+prefix, so "Pb4U + projection" (a model file with contact projection) counts as Pb4U.
 """
 import csv
 import re
@@ -55,13 +56,18 @@ def main(path):
     def field(r, key):
         return None if r is None else r[key]
 
+    def network(prefix):
+        return next((r["method"] for r in rows if r["family"] == "network" and r["method"].startswith(prefix)), prefix)
+
+    pb4u, mgn = network("Pb4U"), network("MGN")
+
     print("Table 3\n")
     print("| level | triangles | Pb4U K | Pb4U ms | MGN ms | Ref. 100 it ms | Blender q5 ms | Blender q15 ms "
           "| Pb4U total | MGN total | Ref. total | Blender q5 total | Blender q15 total | Pb4U E+ | MGN E+ "
           "| Ref. E+ | Blender q15 E+ | Pb4U inside % | MGN inside % | Blender q15 inside % |")
     print("|" + "---|" * 20)
     for lv in levels:
-        p, m, ref = get(lv, "Pb4U"), get(lv, "MGN"), get(lv, "Reference (100 it)")
+        p, m, ref = get(lv, pb4u), get(lv, mgn), get(lv, "Reference (100 it)")
         b5, b15 = get(lv, "Blender (quality 5)"), get(lv, "Blender (quality 15)")
         cells = [f"Lv.{lv}", str((p or m or ref)["triangles"]), str(p["K"]) if p else "-"]
         cells += [ms(field(r, "latency_ms_median")) for r in (p, m, ref, b5, b15)]
@@ -79,7 +85,7 @@ def main(path):
         refs = sorted(((r["latency_ms_median"], int(budget.match(r["method"]).group(1)), r) for r in rows
                        if r["level"] == lv and budget.match(r["method"]) and not r["diverged"]),
                       key=lambda t: t[0])
-        for name in ("Pb4U", "MGN"):
+        for name in (pb4u, mgn):
             net = get(lv, name)
             if net is None:
                 continue
@@ -92,7 +98,7 @@ def main(path):
             else:
                 cells += ["none", "-", "-"]
             b15 = get(lv, "Blender (quality 15)")
-            cells.append(f"{fmt(b15['physics_loss'])} / {ms(b15['latency_ms_median'])}" if b15 and name == "Pb4U" else "")
+            cells.append(f"{fmt(b15['physics_loss'])} / {ms(b15['latency_ms_median'])}" if b15 and name == pb4u else "")
             print("| " + " | ".join(cells) + " |")
 
     print("\nFigure 5\n")
@@ -100,13 +106,14 @@ def main(path):
           "| E+ at best K | E+ w/o update scaling |")
     print("|---|---|---|---|---|---|---|---|---|---|")
     for lv in levels:
-        own = get(lv, "Pb4U")
-        fixed = [r for r in rows if r["level"] == lv and r["method"] == "Pb4U (fixed K)"]
+        own = get(lv, pb4u)
+        fixed = [r for r in rows if r["level"] == lv and r["family"] == "fixed_k"]
         if own is None or not fixed:
             continue
         best = min(fixed, key=lambda r: r["physics_loss"])
         k0 = next((r for r in fixed if r["K"] == 0), None)
-        no_us = get(lv, "Pb4U w/o US (same weights)")
+        no_us = next((r for r in rows if r["level"] == lv and r["family"] == "ablation" and "w/o US" in r["method"]),
+                     None)
         print("| " + " | ".join([
             f"Lv.{lv}", str(own["K"]), fmt(own["physics_loss"], 4), str(best["K"]), fmt(best["physics_loss"], 4),
             f"{own['physics_loss'] / best['physics_loss']:.2f}", fmt(field(k0, "positive_loss")),

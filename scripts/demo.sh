@@ -45,7 +45,7 @@ echo "== pb4u simulate: t-shirt on the walking CMU mannequin, 60 frames"
 "$PB4U" simulate --checkpoint "$PB4U_MODEL" --scene configs/scenes/tshirt_walk.yaml --out "$OUT/tshirt_walk"
 
 echo "== pb4u evaluate: Pb4U vs MGN on the quick levels (Table 1 layout)"
-"$PB4U" evaluate --checkpoint "$PB4U_MODEL" --name Pb4U --checkpoint "$MGN_MODEL" --name MGN \
+"$PB4U" evaluate --checkpoint "$PB4U_MODEL" --checkpoint "$MGN_MODEL" \
   --config configs/eval/quick.yaml | tee "$OUT/table1.txt"
 
 echo

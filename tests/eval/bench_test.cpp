@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "pb4u/eval/bench.h"
+#include "pb4u/eval/model_file.h"
 #include "test_util.h"
 
 namespace pb4u {
@@ -83,6 +84,9 @@ TEST(Bench, TinyConfigWritesSpecCsvWithFiniteValues) {
   EXPECT_EQ(rows[0], header);
   // tiny.yaml: 2 levels x (2 checkpoints + 2 fixed K + 1 ablation + 1 reference + 2 no-body).
   ASSERT_EQ(rows.size(), 1u + 2u * 8u);
+  // The shipped Pb4U's name follows its inference switches ("Pb4U + projection").
+  const std::string pb4u = method_name(load_model_file(kSource + "/data/pretrained/pb4u.h5").config);
+  ASSERT_EQ(pb4u.rfind("Pb4U", 0), 0u) << pb4u;
   std::map<std::string, int> per_method;
   std::vector<int64_t> fixed_k;
   for (size_t i = 1; i < rows.size(); ++i) {
@@ -97,13 +101,13 @@ TEST(Bench, TinyConfigWritesSpecCsvWithFiniteValues) {
     EXPECT_TRUE(std::isfinite(min) && min > 0 && min <= median) << c[3];
     EXPECT_TRUE(std::isfinite(loss)) << c[3];
     ++per_method[c[3]];
-    if (c[3] == "Pb4U (fixed K)") fixed_k.push_back(std::stoll(c[4]));
+    if (c[3] == pb4u + " (fixed K)") fixed_k.push_back(std::stoll(c[4]));
     if (c[3] == "MGN" || c[3].rfind("Reference", 0) == 0) EXPECT_EQ(c[4], "0") << c[3];
   }
-  EXPECT_EQ(per_method["Pb4U"], 2);
+  EXPECT_EQ(per_method[pb4u], 2);
   EXPECT_EQ(per_method["MGN"], 2);
   EXPECT_EQ(per_method["Reference (2 it)"], 2);
-  EXPECT_EQ(per_method["Pb4U (no body)"], 2);
+  EXPECT_EQ(per_method[pb4u + " (no body)"], 2);
   EXPECT_EQ(per_method["Reference (2 it) (no body)"], 2);
   EXPECT_EQ(fixed_k, (std::vector<int64_t>{0, 2, 0, 2}));
 
