@@ -18,17 +18,23 @@ torch::Tensor project_along_matched_faces(const torch::Tensor& x_next, const Bod
   return x_next + push.unsqueeze(1) * normal;
 }
 
+// The body at t + dt as Eigen matrices, for the exact distance queries.
+struct BodySurface {
+  Eigen::MatrixXd V;
+  Eigen::MatrixXi F;
+  explicit BodySurface(const BodyFrame& body) : V(tensor_to_matrix(body.next_vertices.to(torch::kCPU, torch::kFloat64))) {
+    const torch::Tensor faces = body.faces.to(torch::kCPU, torch::kInt32).contiguous();
+    F = Eigen::Map<const Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>>(faces.data_ptr<int>(), faces.size(0), 3);
+  }
+};
+
 // Pass 2: out to `gap` from the closest point of the body surface.
-torch::Tensor project_to_surface_distance(const torch::Tensor& x_next, const BodyFrame& body, double gap,
+torch::Tensor project_to_surface_distance(const torch::Tensor& x_next, const BodySurface& body, double gap,
                                           const torch::Tensor& pinned) {
-  const Eigen::MatrixXd body_V = tensor_to_matrix(body.next_vertices.to(torch::kCPU, torch::kFloat64));
-  const torch::Tensor faces = body.faces.to(torch::kCPU, torch::kInt32).contiguous();
-  const Eigen::MatrixXi body_F =
-      Eigen::Map<const Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>>(faces.data_ptr<int>(), faces.size(0), 3);
   Eigen::MatrixXd x = tensor_to_matrix(x_next.to(torch::kCPU, torch::kFloat64));
   // Only vertices within `gap` of the body's bounding box can be within `gap` of the body.
-  const Eigen::RowVector3d lo = body_V.colwise().minCoeff().array() - gap;
-  const Eigen::RowVector3d hi = body_V.colwise().maxCoeff().array() + gap;
+  const Eigen::RowVector3d lo = body.V.colwise().minCoeff().array() - gap;
+  const Eigen::RowVector3d hi = body.V.colwise().maxCoeff().array() + gap;
   const torch::Tensor fixed = pinned.defined() ? pinned.to(torch::kCPU, torch::kBool).contiguous() : torch::Tensor();
   std::vector<Eigen::Index> near;
   for (Eigen::Index i = 0; i < x.rows(); ++i) {
@@ -38,7 +44,7 @@ torch::Tensor project_to_surface_distance(const torch::Tensor& x_next, const Bod
   if (near.empty()) return x_next;
   Eigen::MatrixXd points(near.size(), 3);
   for (size_t k = 0; k < near.size(); ++k) points.row(k) = x.row(near[k]);
-  const SurfaceProjection p = project_onto_surface(points, body_V, body_F);
+  const SurfaceProjection p = project_onto_surface(points, body.V, body.F);
   bool moved = false;
   for (size_t k = 0; k < near.size(); ++k) {
     if (p.distance(k) >= gap) continue;
@@ -48,6 +54,24 @@ torch::Tensor project_to_surface_distance(const torch::Tensor& x_next, const Bod
   return moved ? matrix_to_tensor(x).to(x_next.options()) : x_next;
 }
 
+// Pass 3: pass 1 again, kept only where the pushed vertex stays outside the body. In a slit
+// narrower than the gap (between the legs, under an arm) the plane push would put it into the
+// other side, which the exact pass had just moved it out of.
+torch::Tensor reproject_along_matched_faces(const torch::Tensor& x_next, const BodyContact& contact,
+                                            const BodySurface& body, double gap, const torch::Tensor& pinned) {
+  const torch::Tensor pushed = project_along_matched_faces(x_next, contact, gap, pinned);
+  const torch::Tensor moved = (pushed != x_next).any(1).nonzero().squeeze(1);
+  if (moved.numel() == 0) return x_next;
+  const torch::Tensor candidates = pushed.index_select(0, moved);
+  const SurfaceProjection p =
+      project_onto_surface(tensor_to_matrix(candidates.to(torch::kCPU, torch::kFloat64)), body.V, body.F);
+  const torch::Tensor outside =
+      torch::from_blob(const_cast<double*>(p.distance.data()), {static_cast<int64_t>(p.distance.size())}, torch::kFloat64).ge(0).to(moved.device());
+  torch::Tensor out = x_next.clone();
+  out.index_copy_(0, moved.masked_select(outside), candidates.index({outside}));
+  return out;
+}
+
 }  // namespace
 
 torch::Tensor project_out_of_body(const torch::Tensor& x_next, const FrameState& state, const BodyContact* contact,
@@ -55,11 +79,12 @@ torch::Tensor project_out_of_body(const torch::Tensor& x_next, const FrameState&
   if (!(gap > 0) || !state.body.defined() || !state.body.next_vertices.defined()) return x_next;
   const torch::Tensor pinned =
       state.pinned.defined() && state.pinned.numel() == x_next.size(0) ? state.pinned : torch::Tensor();
-  if (!contact) return project_to_surface_distance(x_next, state.body, gap, pinned);
+  const BodySurface body(state.body);
+  if (!contact) return project_to_surface_distance(x_next, body, gap, pinned);
   const torch::Tensor along_faces = project_along_matched_faces(x_next, *contact, gap, pinned);
-  const torch::Tensor outside = project_to_surface_distance(along_faces, state.body, gap, pinned);
+  const torch::Tensor outside = project_to_surface_distance(along_faces, body, gap, pinned);
   // Where the body is concave, pass 2 can move a vertex behind its matched face's plane again.
-  return project_along_matched_faces(outside, *contact, gap, pinned);
+  return reproject_along_matched_faces(outside, *contact, body, gap, pinned);
 }
 
 }  // namespace pb4u

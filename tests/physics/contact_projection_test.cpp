@@ -117,6 +117,41 @@ TEST(ContactProjection, AfterwardsTheCollisionTermMeasuresNothing) {
   EXPECT_LT(mannequin.second, 1e-15);
 }
 
+// Pass 3 (the plane pass again) never pushes a vertex into the body. Two spheres 5 cm apart:
+// a vertex matched at t to a face of sphere A (up and to the right of its centre) lands inside
+// sphere B at t + dt. The exact pass moves it out of B, to the gap outside B's left pole, which
+// is behind the plane of its A face; pushing it along that face's normal to the gap in front of
+// the plane would put it ~6 mm back into B. It stays outside both, where the plane measure is
+// not met.
+TEST(ContactProjection, ThePlanePassAgainNeverPushesAVertexIntoTheBody) {
+  const double gap = 0.002;
+  const TriMesh a = test::icosphere(kR, 4, Eigen::RowVector3d(0, 1, 0));
+  const TriMesh b = test::icosphere(kR, 4, Eigen::RowVector3d(0.65, 1, 0));
+  TriMesh body;
+  body.V.resize(a.V.rows() + b.V.rows(), 3);
+  body.V << a.V, b.V;
+  body.F.resize(a.F.rows() + b.F.rows(), 3);
+  body.F << a.F, (b.F.array() + int(a.V.rows())).matrix();
+  Eigen::MatrixXd x(1, 3), x_next(1, 3);
+  x << 0.31, 1.2, 0;        // 7 cm from A along ~(0.84, 0.54, 0), 14 cm from B
+  x_next << 0.45, 1.0, 0;  // 5 cm inside B
+  FrameState state;
+  state.x = state.x_prev = matrix_to_tensor(x);
+  state.effects.collision = true;
+  state.body.vertices = state.body.next_vertices = matrix_to_tensor(body.V);
+  state.body.faces = index_matrix_to_tensor(body.F);
+  PhysicsConfig physics;
+  const BodyContact contact =
+      query_body_contact(state.x, state.body, physics.friction.contact_radius, physics.degenerate_area);
+  const Eigen::RowVector3d normal = tensor_to_matrix(contact.normal).row(0);
+  ASSERT_GT(normal.dot(Eigen::RowVector3d(0.84, 0.54, 0).normalized()), 0.99) << "matched to a face of A";
+  const Eigen::MatrixXd out = tensor_to_matrix(project_out_of_body(matrix_to_tensor(x_next), state, &contact, gap));
+  EXPECT_NEAR(signed_distance_to_surface(out, body.V, body.F)(0), gap, 1e-9) << "left where the exact pass put it";
+  EXPECT_NEAR(out(0, 0), 0.35 - gap, 1e-3) << "at B's left pole";
+  EXPECT_GT(collision_energy(matrix_to_tensor(out), contact, gap, 1.0).item<double>(), 0.0)
+      << "A's plane is not met there: meeting it would have meant entering B";
+}
+
 // Through the network's stepper: a model file with contact_projection > 0 keeps a cloth that
 // starts sunk 2 cm into a sphere outside it on every frame; the same weights without it do not.
 TEST(ContactProjection, TheNetworkStepperProjectsWhenTheModelFileSaysSo) {

@@ -9,7 +9,9 @@
 //     `gap` outside the closest surface point. Pass 1 alone leaves vertices inside where the
 //     matched face's plane is not the nearest surface (armpits, a limb that moved since t).
 //  3. Pass 1 again: where the body is concave, pass 2 can put a vertex behind its matched
-//     face's plane; the collision term then measures nothing.
+//     face's plane. A push is kept only where the vertex stays outside the body (exact signed
+//     distance >= 0): in a slit (between the legs, under an arm) the plane push could put it
+//     into the other side. Elsewhere the collision term then measures nothing.
 // Forward Euler takes the next velocity from positions, so a push also becomes velocity. Not
 // differentiable; training never projects.
 #include <torch/torch.h>
@@ -22,7 +24,8 @@ namespace pb4u {
 // x_next: (n, 3) m. state: the step's state (its body at t + dt; its pinned vertices are not
 // moved). contact: the step's body contact, or null to skip pass 1. Returns x_next (same dtype
 // and device) with the projected rows moved; gap <= 0 or a state without a body returns it as is.
-// With gap >= the collision term's eps the returned step has zero collision energy.
+// With gap >= the collision term's eps the returned step has zero collision energy, except
+// where that would take a vertex into the body (pass 3).
 torch::Tensor project_out_of_body(const torch::Tensor& x_next, const FrameState& state,
                                   const BodyContact* contact, double gap);
 
