@@ -23,6 +23,7 @@
 #include "pb4u/physics/energy_report.h"
 #include "pb4u/physics/physics_term.h"
 #include "pb4u/train/checkpoint.h"
+#include "pb4u/train/init_weights.h"
 #include "pb4u/train/metrics_log.h"
 #include "pb4u/util/atomic_file.h"
 #include "pb4u/util/device.h"
@@ -151,13 +152,13 @@ void Trainer::start_group(bool resume) {
         spdlog::info("resumed {} at step {}", latest, step_);
       } else if (!config_.run.init_from.empty()) {
         // Weights and normaliser statistics only: step, optimiser and schedule start afresh.
-        CheckpointMeta meta;
+        int64_t from_step = 0;
         try {
-          meta = load_checkpoint(config_.run.init_from, *model_, nullptr, device_);
+          from_step = init_weights_from(config_.run.init_from, *model_, device_);
         } catch (const Error& e) {
           throw Error(std::string("run.init_from: ") + e.what());
         }
-        spdlog::info("initialised from {} (trained {} steps)", config_.run.init_from, meta.step);
+        spdlog::info("initialised from {} (trained {} steps)", config_.run.init_from, from_step);
       }
     } catch (const Error& e) {
       if (!distributed) throw;

@@ -11,6 +11,7 @@
 #include <set>
 #include <thread>
 
+#include "pb4u/eval/model_file.h"
 #include "pb4u/train/checkpoint.h"
 #include "pb4u/train/metrics_log.h"
 #include "pb4u/train/trainer.h"
@@ -165,6 +166,36 @@ TEST(Trainer, InitFromStartsANewRunFromAnotherRunsWeights) {
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("run.init_from"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("missing.pt"), std::string::npos) << e.what();
+  }
+}
+
+// run.init_from also takes a portable export (what survives a lost run directory): the new
+// run starts from its weights and normaliser statistics; another shape names file and tensor.
+TEST(Trainer, InitFromAnExportedModelFile) {
+  configure_threads(1);
+  const std::string a_dir = test::temp_dir("init_export_a");
+  Trainer a = make_trainer(tiny_config(a_dir, {"run.steps=6"}));
+  a.run();
+  const std::string exported = a_dir + "/model.h5";
+  export_model_file(load_model_file(a_dir + "/final.pt"), exported);
+  Trainer b = make_trainer(tiny_config(test::temp_dir("init_export_b"), {"run.init_from=" + exported, "run.seed=7"}));
+  EXPECT_EQ(b.step(), 0);
+  auto pa = a.model()->named_parameters(), pb = b.model()->named_parameters();
+  ASSERT_EQ(pa.size(), pb.size());
+  for (const auto& p : pa) EXPECT_TRUE(torch::equal(p.value(), pb[p.key()])) << p.key();
+  auto ba = a.model()->named_buffers(), bb = b.model()->named_buffers();
+  ASSERT_EQ(ba.size(), bb.size());
+  for (const auto& p : ba) EXPECT_TRUE(torch::equal(p.value(), bb[p.key()])) << p.key();
+  b.run(/*stop_at=*/2);
+  EXPECT_EQ(b.step(), 2);
+  try {
+    make_trainer(tiny_config(test::temp_dir("init_export_c"), {"run.init_from=" + exported, "model.latent=9"}));
+    ADD_FAILURE() << "expected an error";
+  } catch (const Error& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("run.init_from"), std::string::npos) << what;
+    EXPECT_NE(what.find("model.h5"), std::string::npos) << what;
+    EXPECT_NE(what.find("shape"), std::string::npos) << what;
   }
 }
 

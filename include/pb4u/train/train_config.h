@@ -22,8 +22,9 @@ struct RunConfig {
   int keep_checkpoints = 3;
   std::string device = "cpu";      // cpu | cuda
   int threads = 0;                 // torch intra-op threads, 0 = all cores (--threads wins)
-  // A training checkpoint whose weights and normaliser statistics start a new run (fine-tuning):
-  // step, optimiser and schedule start afresh from this config. Ignored by --resume.
+  // A training checkpoint or a `pb4u export` file whose weights and normaliser statistics start
+  // a new run (fine-tuning; train/init_weights.h): step, optimiser and schedule start afresh
+  // from this config. Ignored by --resume.
   std::string init_from;
 
   template <class V>
