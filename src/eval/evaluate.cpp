@@ -164,6 +164,12 @@ RolloutInput sequence_input(const EvalConfig& config, const Effects& effects, co
     in.steps = config.max_frames;
   }
   if (effects.pins) in.pinned = top_band_vertices(in.x0, config.pins.top_band);
+  if (s.motion && config.waistband.holds(s.garment->name)) {
+    in.effects.pins = true;
+    in.pinned = top_band_vertices(s.garment->mesh.V, config.waistband.band);
+    in.pin_targets = skinned_pin_targets(*s.body, *s.garment, s.motion->motion, config.start_frame, in.steps,
+                                         config.push_out_gap);
+  }
   in.divergence = config.divergence;
   return in;
 }

@@ -31,6 +31,16 @@ RolloutInput lbs_rollout_input(const Body& body, const Garment& garment, const M
   return in;
 }
 
+std::vector<Eigen::MatrixXd> skinned_pin_targets(const Body& body, const Garment& garment, const Motion& motion,
+                                                 int start, int steps, double push_out_gap) {
+  std::vector<Eigen::MatrixXd> targets;
+  for (int t = start; t <= start + steps; ++t) {
+    const Eigen::MatrixXd posed = pose_body(body, motion.frames[std::clamp(t, 0, motion.num_frames() - 1)]);
+    targets.push_back(lbs_garment(body, garment, motion, t, posed, push_out_gap));
+  }
+  return targets;
+}
+
 StepFunction network_stepper(const ModelFile& model, const GarmentTopology& topology, int64_t k_override) {
   Pb4uNet net = model.model;
   const double gap = model.config.contact_projection;
@@ -107,7 +117,17 @@ FrameState rollout_start_state(const RolloutInput& in) {
       if (i < 0 || i >= n) throw Error("rollout: pinned vertex " + std::to_string(i) + " out of range");
       state.pinned[i] = true;
     }
-    state.pin_targets = state.x.clone();
+    if (in.pin_targets.empty()) {
+      state.pin_targets = state.x.clone();
+    } else {
+      if (int(in.pin_targets.size()) < in.steps + 1)
+        throw Error("rollout: " + std::to_string(in.pin_targets.size()) + " frames of pin targets were given for " +
+                    std::to_string(in.steps) + " steps (it needs frames 0.." + std::to_string(in.steps) + ")");
+      for (const auto& p : in.pin_targets)
+        if (p.rows() != n || p.cols() != 3)
+          throw Error("rollout: pin targets do not match the rest mesh's " + std::to_string(n) + " vertices");
+      state.pin_targets = matrix_to_tensor(in.pin_targets[std::min(1, in.steps)]);
+    }
   }
   if (in.effects.needs_body()) {
     state.body.vertices = matrix_to_tensor(in.body[0]);
@@ -133,6 +153,8 @@ RolloutResult run_rollout(const RolloutInput& in, const StepFunction& step,
       state.body.vertices = matrix_to_tensor(in.body[frame - 1]);
       state.body.next_vertices = matrix_to_tensor(in.body[frame]);
     }
+    if (state.pinned.defined() && !in.pin_targets.empty() && frame > 1)
+      state.pin_targets = matrix_to_tensor(in.pin_targets[frame]);
     auto t0 = std::chrono::steady_clock::now();
     std::optional<BodyContact> contact = body_contact_for(state, physics);
     const double contact_ms = ms_since(t0);

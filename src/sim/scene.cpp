@@ -1,5 +1,6 @@
 #include "pb4u/sim/scene.h"
 
+#include <algorithm>
 #include <filesystem>
 
 #include "pb4u/body/bvh.h"
@@ -129,10 +130,15 @@ SceneSetup build_scene(const SceneConfig& scene, const std::string& where) {
   s.garment = garment.mesh;
   s.x0 = s.x_prev = garment.mesh.V;
 
+  const bool skinned = has_body && garment.weights.rows() == garment.mesh.V.rows();
+  // Pins riding on the body: asked for, or a garment held at the waist (scene/waistband.h).
+  const bool waistband = skinned && scene.waistband.holds(garment.name);
+  if (has_body && scene.pins.on_body && !skinned)
+    throw Error(where + ": pins.on_body: the garment has no skinning weights to follow the body with");
   if (has_body) {
     const Body& body = record->body;
     Motion motion = scene_motion(scene.body, data, body, scene.frames, where);
-    if (garment.weights.rows() == garment.mesh.V.rows()) {
+    if (skinned) {
       LbsFrame f0 = lbs_frame(body, garment, motion, 0, scene.body.push_out_gap);
       s.x0 = f0.garment;
       s.x_prev = f0.garment_prev;
@@ -141,6 +147,10 @@ SceneSetup build_scene(const SceneConfig& scene, const std::string& where) {
     // A motion shorter than the scene holds its last pose.
     for (int t = 0; t <= scene.frames; ++t)
       s.body.push_back(pose_body(body, motion.frames[std::min(t, motion.num_frames() - 1)]));
+    if (waistband || (scene.pins.on_body && s.effects.pins))
+      for (int t = 0; t <= scene.frames; ++t)
+        s.pin_targets.push_back(lbs_garment(body, garment, motion, std::min(t, motion.num_frames() - 1), s.body[t],
+                                            scene.body.push_out_gap));
   }
 
   if (scene.pins.top_band > 0) s.pinned = top_band_vertices(s.x0, scene.pins.top_band);
@@ -153,6 +163,12 @@ SceneSetup build_scene(const SceneConfig& scene, const std::string& where) {
   if (s.effects.pins && s.pinned.empty())
     throw Error(where + ": pins: effect 'pins' is on but no vertex is pinned (set pins.top_band or pins.vertices)");
   if (!s.effects.pins) s.pinned.clear();
+  if (waistband) {
+    s.effects.pins = true;
+    for (int i : top_band_vertices(garment.mesh.V, scene.waistband.band)) s.pinned.push_back(i);
+    std::sort(s.pinned.begin(), s.pinned.end());
+    s.pinned.erase(std::unique(s.pinned.begin(), s.pinned.end()), s.pinned.end());
+  }
   return s;
 }
 

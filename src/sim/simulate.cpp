@@ -31,6 +31,7 @@ RolloutInput scene_rollout_input(const SceneConfig& scene, const SceneSetup& set
   in.body = setup.body;
   in.body_faces = setup.body_faces;
   in.pinned = setup.pinned;
+  in.pin_targets = setup.pin_targets;
   in.effects = setup.effects;
   in.material = scene.material;
   in.metric_material = scene.material;

@@ -22,6 +22,7 @@
 #include "pb4u/physics/body_queries.h"
 #include "pb4u/physics/energy_report.h"
 #include "pb4u/physics/physics_term.h"
+#include "pb4u/scene/pins.h"
 #include "pb4u/train/checkpoint.h"
 #include "pb4u/train/init_weights.h"
 #include "pb4u/train/metrics_log.h"
@@ -236,9 +237,13 @@ Trajectory Trainer::fresh_trajectory(std::mt19937_64& rng, int rollout) {
   LbsFrame frame = lbs_frame(data_.bodies[bi], garment, motion, tr.frame, config_.data.push_out_gap);
   tr.x = matrix_to_tensor(frame.garment, torch::kFloat32, device_);
   tr.x_prev = matrix_to_tensor(frame.garment_prev, torch::kFloat32, device_);
+  const bool waistband = tr.effects.needs_body() && config_.waistband.holds(garment.name);
+  if (waistband) tr.effects.pins = true;
   if (tr.effects.pins) {
     tr.pinned = torch::zeros({tr.x.size(0)}, torch::TensorOptions().dtype(torch::kBool));
-    for (int i : sample_pinned_vertices(garment.mesh.V, rng)) tr.pinned[i] = true;
+    for (int i : waistband ? top_band_vertices(garment.mesh.V, config_.waistband.band)
+                           : sample_pinned_vertices(garment.mesh.V, rng))
+      tr.pinned[i] = true;
     tr.pinned = tr.pinned.to(device_);
     tr.pin_anchor = tr.x.clone();
   }

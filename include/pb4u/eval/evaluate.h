@@ -16,6 +16,7 @@
 #include "pb4u/physics/material.h"
 #include "pb4u/physics/penetration.h"
 #include "pb4u/physics/physics_config.h"
+#include "pb4u/scene/waistband.h"
 
 namespace pb4u {
 
@@ -40,6 +41,9 @@ struct EvalConfig {
   double push_out_gap = 0.004;  // m, as in training: LBS frames pushed out of the body
   std::vector<std::string> effects{"gravity", "collision", "friction"};
   EvalPins pins;           // with effect `pins`
+  // With a body, these garments' waistbands ride on it (scene/waistband.h): a skirt's rollout
+  // gains the effect `pins`. `waistband: {garments: []}` lets skirts slide off.
+  WaistbandConfig waistband;
   Material material;       // the evaluation material (SPEC 2 defaults)
   PhysicsConfig physics;   // evaluation uses the final collision weight
   DivergenceConfig divergence;  // when a rollout stops as diverged
@@ -59,6 +63,7 @@ struct EvalConfig {
     v("push_out_gap", push_out_gap, in_range(0, 0.05));
     v("effects", effects);
     v("pins", pins);
+    v("waistband", waistband);
     v("material", material);
     v("physics", physics);
     v("divergence", divergence);

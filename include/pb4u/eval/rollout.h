@@ -31,7 +31,10 @@ struct RolloutInput {
   // also measured against it (penetration).
   std::vector<Eigen::MatrixXd> body;
   Eigen::MatrixXi body_faces;        // mb x 3, outward
-  std::vector<int> pinned;           // pinned vertex indices, held at their x0 positions
+  std::vector<int> pinned;           // pinned vertex indices, held at their x0 positions...
+  // ...or, when given, moved to these positions: n x 3 m per frame, frames 0..steps (pins riding
+  // on a body: skinned_pin_targets).
+  std::vector<Eigen::MatrixXd> pin_targets;
   Effects effects;
   Material material;                 // what the cloth is made of (network input, solver)
   Material metric_material;          // what the energies are reported under
@@ -46,6 +49,11 @@ struct RolloutInput {
 RolloutInput lbs_rollout_input(const Body& body, const Garment& garment, const Motion& motion, int start,
                                int steps, const Effects& effects, const Material& material,
                                double push_out_gap);
+
+// The garment skinned to `body` at motion frames start..start + steps and pushed `push_out_gap` m
+// out of it (data/lbs_frame.h), the targets of pins that ride on the body: a waistband held on.
+std::vector<Eigen::MatrixXd> skinned_pin_targets(const Body& body, const Garment& garment, const Motion& motion,
+                                                 int start, int steps, double push_out_gap);
 
 // Advances one frame: float64 state in, float64 x_{t+1} (n, 3) out.
 using StepFunction = std::function<torch::Tensor(const FrameState& state, const ClothGeometry& cloth,

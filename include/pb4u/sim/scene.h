@@ -12,6 +12,7 @@
 #include "pb4u/physics/material.h"
 #include "pb4u/physics/physics_config.h"
 #include "pb4u/scene/effects.h"
+#include "pb4u/scene/waistband.h"
 #include "pb4u/sim/rollout_writer.h"
 
 namespace pb4u {
@@ -66,10 +67,14 @@ struct SceneBody {
 struct ScenePins {
   double top_band = 0.0;     // m: pin the vertices within this distance of the highest one
   std::vector<int> vertices;  // and these
+  // With a body: the pinned vertices ride on it (the garment skinned to each frame) instead of
+  // holding their start positions.
+  bool on_body = false;
   template <class V>
   void visit(V& v) {
     v("top_band", top_band, non_negative());
     v("vertices", vertices);
+    v("on_body", on_body);
   }
 };
 
@@ -94,6 +99,8 @@ struct SceneConfig {
   SceneGarment garment;
   SceneBody body;
   ScenePins pins;
+  // With a body, these garments' waistbands ride on it (scene/waistband.h): a skirt stays on.
+  WaistbandConfig waistband;
   Material material;
   PhysicsConfig physics;
   DivergenceConfig divergence;  // when the rollout stops as diverged
@@ -106,6 +113,7 @@ struct SceneConfig {
     v("garment", garment);
     v("body", body);
     v("pins", pins);
+    v("waistband", waistband);
     v("material", material);
     v("physics", physics);
     v("divergence", divergence);
@@ -120,6 +128,7 @@ struct SceneSetup {
   std::vector<Eigen::MatrixXd> body;  // nb x 3 m per frame 0..frames; empty without a body
   Eigen::MatrixXi body_faces;
   std::vector<int> pinned;
+  std::vector<Eigen::MatrixXd> pin_targets;  // n x 3 m per frame 0..frames when pins ride on the body
   Effects effects;
 };
 

@@ -9,6 +9,7 @@
 #include "pb4u/model/model_config.h"
 #include "pb4u/physics/material.h"
 #include "pb4u/physics/physics_config.h"
+#include "pb4u/scene/waistband.h"
 #include "pb4u/train/sampling.h"
 
 namespace pb4u {
@@ -107,6 +108,9 @@ struct TrainConfig {
   PhysicsConfig physics;
   MaterialRanges materials;       // sampled per training sample (SPEC 2)
   EffectSampling effects;
+  // With a body, these garments always train with their waistband riding on it (scene/waistband.h),
+  // as evaluation and scenes hold them. Off by default (the shipped models trained without it).
+  WaistbandConfig waistband{{}, 0.02};
   OptimConfig optim;
   CurriculumConfig curriculum;
   ReplayConfig replay;
@@ -119,6 +123,7 @@ struct TrainConfig {
     v("physics", physics);
     v("materials", materials);
     v("effects", effects);
+    v("waistband", waistband);
     v("optim", optim);
     v("curriculum", curriculum);
     v("replay", replay);
