@@ -167,7 +167,7 @@ RolloutInput sequence_input(const EvalConfig& config, const Effects& effects, co
   if (s.motion && config.waistband.holds(s.garment->name)) {
     in.effects.pins = true;
     in.pinned = top_band_vertices(s.garment->mesh.V, config.waistband.band);
-    in.pin_targets = skinned_pin_targets(*s.body, *s.garment, s.motion->motion, config.start_frame, in.steps,
+    in.pin_targets = skinned_pin_targets(*s.body, *s.garment, s.motion->motion, config.start_frame, in.body,
                                          config.push_out_gap);
   }
   in.divergence = config.divergence;

@@ -32,12 +32,11 @@ RolloutInput lbs_rollout_input(const Body& body, const Garment& garment, const M
 }
 
 std::vector<Eigen::MatrixXd> skinned_pin_targets(const Body& body, const Garment& garment, const Motion& motion,
-                                                 int start, int steps, double push_out_gap) {
+                                                 int start, const std::vector<Eigen::MatrixXd>& posed_bodies,
+                                                 double push_out_gap) {
   std::vector<Eigen::MatrixXd> targets;
-  for (int t = start; t <= start + steps; ++t) {
-    const Eigen::MatrixXd posed = pose_body(body, motion.frames[std::clamp(t, 0, motion.num_frames() - 1)]);
-    targets.push_back(lbs_garment(body, garment, motion, t, posed, push_out_gap));
-  }
+  for (size_t k = 0; k < posed_bodies.size(); ++k)
+    targets.push_back(lbs_garment(body, garment, motion, start + int(k), posed_bodies[k], push_out_gap));
   return targets;
 }
 

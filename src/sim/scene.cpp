@@ -7,6 +7,7 @@
 #include "pb4u/body/procedural_motion.h"
 #include "pb4u/data/dataset.h"
 #include "pb4u/data/lbs_frame.h"
+#include "pb4u/eval/rollout.h"
 #include "pb4u/garment/garment_template.h"
 #include "pb4u/garment/import_garment.h"
 #include "pb4u/garment/skin_weight_transfer.h"
@@ -148,9 +149,7 @@ SceneSetup build_scene(const SceneConfig& scene, const std::string& where) {
     for (int t = 0; t <= scene.frames; ++t)
       s.body.push_back(pose_body(body, motion.frames[std::min(t, motion.num_frames() - 1)]));
     if (waistband || (scene.pins.on_body && s.effects.pins))
-      for (int t = 0; t <= scene.frames; ++t)
-        s.pin_targets.push_back(lbs_garment(body, garment, motion, std::min(t, motion.num_frames() - 1), s.body[t],
-                                            scene.body.push_out_gap));
+      s.pin_targets = skinned_pin_targets(body, garment, motion, 0, s.body, scene.body.push_out_gap);
   }
 
   if (scene.pins.top_band > 0) s.pinned = top_band_vertices(s.x0, scene.pins.top_band);

@@ -57,7 +57,7 @@ TEST(Waistband, PinnedVerticesRideOnTheSkinnedGarmentInARollout) {
                                       0.004);
   in.pinned = top_band_vertices(s.skirt->mesh.V, 0.02);
   ASSERT_FALSE(in.pinned.empty());
-  in.pin_targets = skinned_pin_targets(s.record->body, *s.skirt, s.motion->motion, start, steps, 0.004);
+  in.pin_targets = skinned_pin_targets(s.record->body, *s.skirt, s.motion->motion, start, in.body, 0.004);
   ASSERT_EQ(in.pin_targets.size(), size_t(steps + 1));
   // The targets are the skinned, pushed-out garment of each frame: frame 0 is the start state.
   EXPECT_LT((in.pin_targets[0] - in.x0).norm(), 1e-12);

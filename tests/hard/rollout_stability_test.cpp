@@ -251,7 +251,7 @@ TEST_F(HardCases, HeldOutGarmentOnAHeldOutMotion) {
   const WaistbandConfig waistband;
   in.effects.pins = true;
   in.pinned = top_band_vertices(skirt->mesh.V, waistband.band);
-  in.pin_targets = skinned_pin_targets(record->body, *skirt, motion->motion, start, steps, 0.004);
+  in.pin_targets = skinned_pin_targets(record->body, *skirt, motion->motion, start, in.body, 0.004);
   check_methods("skirt on test motion " + motion->name, in, {kNoBlowUp});
 }
 

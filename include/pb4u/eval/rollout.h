@@ -50,10 +50,12 @@ RolloutInput lbs_rollout_input(const Body& body, const Garment& garment, const M
                                int steps, const Effects& effects, const Material& material,
                                double push_out_gap);
 
-// The garment skinned to `body` at motion frames start..start + steps and pushed `push_out_gap` m
-// out of it (data/lbs_frame.h), the targets of pins that ride on the body: a waistband held on.
+// The targets of pins that ride on the body (a waistband held on): per posed body frame k (the
+// body at motion frame start + k, as RolloutInput::body holds it), the garment skinned to that
+// frame and pushed `push_out_gap` m out of it (data/lbs_frame.h).
 std::vector<Eigen::MatrixXd> skinned_pin_targets(const Body& body, const Garment& garment, const Motion& motion,
-                                                 int start, int steps, double push_out_gap);
+                                                 int start, const std::vector<Eigen::MatrixXd>& posed_bodies,
+                                                 double push_out_gap);
 
 // Advances one frame: float64 state in, float64 x_{t+1} (n, 3) out.
 using StepFunction = std::function<torch::Tensor(const FrameState& state, const ClothGeometry& cloth,
