@@ -1,6 +1,7 @@
 #include "pb4u/train/training_data.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "pb4u/data/dataset.h"
 #include "pb4u/util/error.h"
@@ -15,6 +16,9 @@ TrainingData load_training_data(const TrainDataConfig& config) {
     if (level < 1 || level > num_levels)
       throw Error(config.dataset + ": data.levels has level " + std::to_string(level) +
                   " but the dataset has levels 1.." + std::to_string(num_levels));
+  for (double speedup : config.speedups)
+    if (!(speedup > 0) || !std::isfinite(speedup))
+      throw Error("data.speedups: " + std::to_string(speedup) + " is not a positive speed-up");
   auto wanted = [&](const std::string& name) {
     return config.garments.empty() ||
            std::find(config.garments.begin(), config.garments.end(), name) != config.garments.end();
@@ -26,6 +30,14 @@ TrainingData load_training_data(const TrainDataConfig& config) {
       if (m.body == record.body.name && m.split == "train") {
         data.motions.push_back(m.motion);
         data.motion_body.push_back(body_index);
+        for (double speedup : config.speedups) {
+          // Played `speedup` times faster: sampled at fps / speedup, stepped at fps.
+          Motion fast = resample_motion(m.motion, m.motion.fps / speedup);
+          fast.fps = m.motion.fps;
+          if (fast.num_frames() < 3) continue;  // too short to start a sample on
+          data.motions.push_back(std::move(fast));
+          data.motion_body.push_back(body_index);
+        }
       }
     if (data.motions.size() == motions_before) continue;  // a body nothing moves: skip it
     for (auto& g : record.garments) {

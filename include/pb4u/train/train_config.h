@@ -47,6 +47,10 @@ struct TrainDataConfig {
   std::vector<int> levels{1};          // training levels (1-based, as in the dataset)
   std::vector<std::string> garments;   // template names to train on; empty = all
   double push_out_gap = 0.004;         // m: LBS frames push penetrating vertices this far out
+  // Each training motion is also trained on played this many times faster (resampled, so a
+  // 1/30 s step covers more of it): the body moves faster than any recorded motion, as
+  // held-out motions may. Empty = the motions as recorded only.
+  std::vector<double> speedups;
 
   template <class V>
   void visit(V& v) {
@@ -54,6 +58,7 @@ struct TrainDataConfig {
     v("levels", levels);
     v("garments", garments);
     v("push_out_gap", push_out_gap, in_range(0, 0.05));
+    v("speedups", speedups);
   }
 };
 
