@@ -4,7 +4,7 @@
 # (configs/eval/heldout_pinned.yaml); a markdown table of each network against the solver on
 # the same sequences (scripts/stability_table.py) to DIR/report.md and stdout.
 #
-# Usage: scripts/stability_report.sh [--quick | --reduced] [--case body|pinned] [--out DIR]
+# Usage: scripts/stability_report.sh [--quick | --reduced] [--networks-only] [--case body|pinned] [--out DIR]
 #            [--split NAME] [--dataset FILE] [--threads N] [--set KEY=VALUE ...] [CHECKPOINT ...]
 #   CHECKPOINT    networks to evaluate (default data/pretrained/pb4u.h5 data/pretrained/mgn.h5)
 #   --quick       a smoke test: level 1, the t-shirt, one motion, 5 frames (minutes, not hours)
@@ -12,6 +12,8 @@
 #                 imported t-shirt; the first held-out motion of each body; 300 frames (~1 h)
 #   --case C      only the body case or only the pinned one (default both)
 #   --fresh       run the solver again even if DIR holds its run with the same settings
+#   --networks-only  no solver: the networks' energies (J), penetration and divergence on the
+#                 chosen set, e.g. every held-out motion at level 1 (--set levels=[1]: minutes)
 #   --split NAME  motions of this split instead of "heldout" (e.g. test, for a dataset without it)
 #   --dataset F   another generated dataset (default: the configs', data/generated/quick/quick.h5)
 #   --threads N   torch threads for pb4u (default 1)
@@ -22,12 +24,13 @@
 # match; the networks' run goes to DIR/<case>.networks.json; the report is built from both.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-out=runs/stability quick=0 reduced=0 fresh=0 cases="body pinned" split="" dataset="" threads=1 models=() extra=()
+out=runs/stability quick=0 reduced=0 fresh=0 networks_only=0 cases="body pinned" split="" dataset="" threads=1 models=() extra=()
 while [ $# -gt 0 ]; do
   case "$1" in
     --quick) quick=1 ;;
     --reduced) reduced=1 ;;
     --fresh) fresh=1 ;;
+    --networks-only) networks_only=1 ;;
     --case) case $2 in body|pinned) cases=$2 ;; *) echo "stability_report.sh: --case body or pinned, not '$2'" >&2; exit 2 ;; esac; shift ;;
     --out) out=$2; shift ;;
     --split) split=$2; shift ;;
@@ -69,6 +72,12 @@ for case in $cases; do
   [ $case = pinned ] && config=configs/eval/heldout_pinned.yaml
   # The solver's run, reused while the config, the overrides, the dataset file (size and time)
   # and the binary's version match.
+  if [ $networks_only = 1 ]; then
+    echo "stability_report.sh: $case ($config): ${#models[@]} network(s), no solver" >&2
+    run_evaluate "$case" "$out/$case.networks.json" "${checkpoints[@]}" --config "$config" "${sets[@]}"
+    runs+=("$out/$case.networks.json:$case")
+    continue
+  fi
   reference=$out/$case.reference.json
   data=${dataset:-$(sed -n 's/^dataset: *//p' "$config" | head -1)}
   settings="$config $(sha256sum "$config" | cut -c1-16) ${sets[*]} $data $(stat -c '%s %Y' "$data" 2>/dev/null) $("$pb4u" --version 2>&1 | tail -1)"
@@ -88,5 +97,7 @@ done
 note="Configs: configs/eval/heldout.yaml (body) and heldout_pinned.yaml (pinned, no body)"
 [ ${#sets[@]} -gt 0 ] && note+=", overrides: ${sets[*]}"
 note+=". Networks: ${models[*]}. pb4u --threads $threads on a $(nproc --all)-core machine ($(date -u +%Y-%m-%d))."
-/usr/bin/python3 scripts/stability_table.py "${runs[@]}" --note "$note" >"$out/report.md"
+table_args=()
+[ $networks_only = 1 ] && table_args=(--no-reference)
+/usr/bin/python3 scripts/stability_table.py "${runs[@]}" "${table_args[@]}" --note "$note" >"$out/report.md"
 cat "$out/report.md"

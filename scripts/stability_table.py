@@ -1,13 +1,15 @@
 #!/usr/bin/python3
 """Markdown stability table from `pb4u evaluate --format json` runs (issue 14, SPEC 9).
-Usage: stability_table.py RUN.json[,MORE.json ...]:LABEL [...] [--reference NAME] [--note TEXT]
+Usage: stability_table.py RUN.json[,MORE.json ...]:LABEL [...] [--reference NAME | --no-reference] [--note TEXT]
 Each run holds the networks and the reference solver on the same sequences (evaluate's
 per-method "sequences" list); a run given as several comma-separated files (say the networks'
 and a cached solver run of the same config) is their methods merged level by level.
 Per sequence (garment, motion, body), level and network: its
 positive energy (stretch + bending + collision) as a ratio to the solver's on the same sequence
 (mean per frame, and largest frame), the share of garment vertices inside the body (mean and
-largest over frames), the deepest penetration (mm), and where it diverged. Standard library only."""
+largest over frames), the deepest penetration (mm), and where it diverged. With --no-reference
+(runs of the networks alone, e.g. every held-out motion, where the solver would take hours):
+the energies in J instead of ratios, and how many rollouts diverged. Standard library only."""
 import argparse
 import json
 import math
@@ -102,6 +104,59 @@ def rows_of(run, label, reference):
     return out, summary
 
 
+def rows_without_reference(run, label):
+    """Networks alone: one row per network, sequence and level (energies in J), and per-network
+    summaries."""
+    out, summary = [], {}
+    for level in run["levels"]:
+        for name, m in level["methods"].items():
+            s = summary.setdefault(name, {"cases": 0, "diverged": 0, "means": [], "inside": None, "depth": None,
+                                          "stopped": []})
+            for q in m["sequences"]:
+                if q["motion"] == "rest":
+                    case = "%s (%s's) / hanging from rest / no body" % (q["garment"], q["body"])
+                else:
+                    case = "%s / %s / %s" % (q["garment"], q["motion"], q["body"])
+                e, emax = q.get("positive_energy"), q.get("max_positive_energy")
+                out.append([label, case, str(level["level"]), name, str(q["frames"]),
+                            "%.3g" % e if e is not None else "n/a", "%.3g" % emax if emax is not None else "n/a",
+                            percent(q.get("penetrating_fraction")), percent(q.get("max_penetrating_fraction")),
+                            mm(q.get("max_penetration_mm")), diverged(q)])
+                s["cases"] += 1
+                if q.get("diverged"):
+                    s["diverged"] += 1
+                    s["stopped"].append("%s / %s (%s)" % (q["garment"], q["motion"], q.get("diverged_at_frame")))
+                if e is not None and math.isfinite(e):
+                    s["means"].append(e)
+                for k, key in (("inside", "max_penetrating_fraction"), ("depth", "max_penetration_mm")):
+                    if q.get(key) is not None:
+                        s[k] = max(s[k] or 0.0, q[key])
+    return out, summary
+
+
+def print_without_reference(specs, note):
+    rows, summaries = [], {}
+    for spec in specs:
+        path, _, label = spec.rpartition(":") if ":" in spec else (spec, "", spec)
+        r, s = rows_without_reference(load_run(path.split(",")), label or path)
+        rows += r
+        for name, v in s.items():
+            summaries[(label, name)] = v
+    print("# Held-out stability: the networks alone\n")
+    if note:
+        print(note + "\n")
+    print("No reference solver: E+ = positive energy (stretch + bending + collision) in J per frame, mean over the "
+          "frames run and largest frame. Inside: share of garment vertices inside the body (mean / largest over "
+          "frames); depth: deepest penetration. Diverged: stopped by the guard at that frame.\n")
+    print(table(["run", "case (garment / motion / body)", "level", "network", "frames", "E+ mean J", "E+ max J",
+                 "inside mean %", "inside max %", "depth max mm", "diverged"], rows))
+    print("\n## Per network\n")
+    print(table(["run", "network", "cases", "diverged", "median E+ mean J", "worst inside %", "deepest mm",
+                 "stopped (garment / motion (frame))"],
+                [[label, name, str(v["cases"]), str(v["diverged"]), median(v["means"]), percent(v["inside"]),
+                  mm(v["depth"]), "; ".join(v["stopped"]) or "-"] for (label, name), v in summaries.items()]))
+
+
 def median(values):
     return "%.3g" % statistics.median(values) if values else "n/a"
 
@@ -116,8 +171,12 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("runs", nargs="+", help="RUN.json:LABEL")
     ap.add_argument("--reference", default="Reference", help="the solver's method name in the runs")
+    ap.add_argument("--no-reference", action="store_true",
+                    help="the runs hold networks only: energies in J, divergence counts, no ratios")
     ap.add_argument("--note", default="", help="a line printed under the title (frames, threads, machine)")
     a = ap.parse_args()
+    if a.no_reference:
+        return print_without_reference(a.runs, a.note)
     rows, summaries = [], {}
     for spec in a.runs:
         path, _, label = spec.rpartition(":") if ":" in spec else (spec, "", spec)
