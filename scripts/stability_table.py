@@ -40,6 +40,13 @@ def diverged(q):
     return "frame %s%s" % (q.get("diverged_at_frame"), " (%s)" % reason if reason else "")
 
 
+def case_name(q):
+    """garment / motion / body; a body-less sequence is the garment as fitted to that body, hanging."""
+    if q["motion"] == "rest":
+        return "%s (%s's) / hanging from rest / no body" % (q["garment"], q["body"])
+    return "%s / %s / %s" % (q["garment"], q["motion"], q["body"])
+
+
 def load_run(paths):
     """One evaluate run from one or more JSON files: the methods of equal levels merged."""
     merged = None
@@ -77,10 +84,7 @@ def rows_of(run, label, reference):
                 ref = solver.get(key)
                 if ref is None:
                     continue
-                if q["motion"] == "rest":  # body-less: the garment as fitted to this body, hanging
-                    case = "%s (%s's) / hanging from rest / no body" % (q["garment"], q["body"])
-                else:
-                    case = "%s / %s / %s" % (q["garment"], q["motion"], q["body"])
+                case = case_name(q)
                 mean_r = ratio(q.get("positive_energy"), ref.get("positive_energy"))
                 max_r = ratio(q.get("max_positive_energy"), ref.get("max_positive_energy"))
                 out.append([label, case, str(level["level"]), name, "%d / %d" % (q["frames"], ref["frames"]), mean_r,
@@ -113,10 +117,7 @@ def rows_without_reference(run, label):
             s = summary.setdefault(name, {"cases": 0, "diverged": 0, "means": [], "inside": None, "depth": None,
                                           "stopped": []})
             for q in m["sequences"]:
-                if q["motion"] == "rest":
-                    case = "%s (%s's) / hanging from rest / no body" % (q["garment"], q["body"])
-                else:
-                    case = "%s / %s / %s" % (q["garment"], q["motion"], q["body"])
+                case = case_name(q)
                 e, emax = q.get("positive_energy"), q.get("max_positive_energy")
                 out.append([label, case, str(level["level"]), name, str(q["frames"]),
                             "%.3g" % e if e is not None else "n/a", "%.3g" % emax if emax is not None else "n/a",

@@ -49,7 +49,6 @@ ModelFile average_models(const std::vector<ModelFile>& models, const std::vector
   const ModelFile& first = models.front();
   ModelFile out = first;
   out.model = Pb4uNet(first.config);
-  out.model->to(torch::kCPU);
   torch::NoGradGuard no_grad;
   auto out_params = out.model->named_parameters();
   auto out_buffers = out.model->named_buffers();
