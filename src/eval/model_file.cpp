@@ -125,9 +125,9 @@ void set_inference_switches(ModelFile& model, const std::vector<std::string>& as
     if (eq == std::string::npos || eq + 1 == a.size())
       throw Error("--set " + a + ": expected KEY=VALUE");
     if (key != "update_scaling" && key != "smooth_distance" && key != "propagation_control" &&
-        key != "contact_projection")
-      throw Error("--set " + a + ": only update_scaling, smooth_distance, propagation_control and "
-                  "contact_projection can change without retraining (the weights stay as trained)");
+        key != "contact_projection" && key != "strain_limit")
+      throw Error("--set " + a + ": only update_scaling, smooth_distance, propagation_control, "
+                  "contact_projection and strain_limit can change without retraining (the weights stay as trained)");
     node[key] = a.substr(eq + 1);
   }
   std::stringstream yaml;
@@ -171,7 +171,8 @@ std::string network_name(const ModelConfig& config) {
 }  // namespace
 
 std::string method_name(const ModelConfig& config) {
-  return network_name(config) + (config.contact_projection > 0 ? " + projection" : "");
+  return network_name(config) + (config.contact_projection > 0 ? " + projection" : "") +
+         (config.strain_limit > 0 ? " + strain limit" : "");
 }
 
 int64_t parameter_count(const torch::nn::Module& module) {

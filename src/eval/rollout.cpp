@@ -6,8 +6,8 @@
 
 #include "pb4u/data/lbs_frame.h"
 #include "pb4u/physics/cloth_geometry.h"
-#include "pb4u/physics/contact_projection.h"
 #include "pb4u/physics/reference_solver.h"
+#include "pb4u/physics/step_constraints.h"
 #include "pb4u/util/error.h"
 
 namespace pb4u {
@@ -42,26 +42,28 @@ std::vector<Eigen::MatrixXd> skinned_pin_targets(const Body& body, const Garment
 
 StepFunction network_stepper(const ModelFile& model, const GarmentTopology& topology, int64_t k_override) {
   Pb4uNet net = model.model;
-  const double gap = model.config.contact_projection;
+  const double gap = model.config.contact_projection, strain_limit = model.config.strain_limit;
   // The network (graph building included) runs where its weights are (--device); the
-  // float64 physics state, metrics and the contact projection stay on the host.
+  // float64 physics state, metrics and the step constraints (strain limit, contact projection)
+  // stay on the host.
   const torch::Device device = net->parameters().front().device();
-  auto project = [gap](const FrameState& state, torch::Tensor x_next, const BodyContact* contact) {
-    return project_out_of_body(x_next, state, contact, gap);
+  auto constrain = [gap, strain_limit, topology](const FrameState& state, torch::Tensor x_next,
+                                                 const BodyContact* contact) {
+    return constrain_step(x_next, state, contact, topology, strain_limit, gap);
   };
   if (device.is_cpu())
-    return [net, topology, k_override, project](const FrameState& state, const ClothGeometry&, const TermList&,
+    return [net, topology, k_override, constrain](const FrameState& state, const ClothGeometry&, const TermList&,
                                                 const BodyContact* contact) mutable {
-      return project(state, net->step(state, topology, k_override).to(torch::kFloat64), contact);
+      return constrain(state, net->step(state, topology, k_override).to(torch::kFloat64), contact);
     };
   GarmentTopology on_device = garment_topology_to(topology, device);
-  return [net, on_device, device, k_override, project](const FrameState& state, const ClothGeometry&,
+  return [net, on_device, device, k_override, constrain](const FrameState& state, const ClothGeometry&,
                                                        const TermList&, const BodyContact* contact) mutable {
     FrameState s = state;
     for (torch::Tensor* t : {&s.x, &s.x_prev, &s.pinned, &s.pin_targets, &s.body.vertices,
                              &s.body.next_vertices, &s.body.faces})
       if (t->defined()) *t = t->to(device);
-    return project(state, net->step(s, on_device, k_override).to(torch::kCPU, torch::kFloat64), contact);
+    return constrain(state, net->step(s, on_device, k_override).to(torch::kCPU, torch::kFloat64), contact);
   };
 }
 

@@ -99,7 +99,8 @@ TEST(ModelFile, ExportLoadsWithIdenticalPredictions) {
 TEST(ModelFile, ExportSetChangesOnlyInferenceSwitches) {
   const std::string dir = test::temp_dir("export_set");
   auto r = test::run_pb4u("-q export --checkpoint " + tiny_checkpoint() + " --out " + dir +
-                          "/detail.h5 --set update_scaling=detail --set model.smooth_distance=0.08 --set contact_projection=0.002");
+                          "/detail.h5 --set update_scaling=detail --set model.smooth_distance=0.08 --set contact_projection=0.002 "
+                          "--set strain_limit=0.1");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   ModelFile ckpt = load_model_file(tiny_checkpoint()), detail = load_model_file(dir + "/detail.h5");
   EXPECT_EQ(ckpt.config.update_scaling, "on");
@@ -107,6 +108,9 @@ TEST(ModelFile, ExportSetChangesOnlyInferenceSwitches) {
   EXPECT_DOUBLE_EQ(detail.config.smooth_distance, 0.08);
   EXPECT_DOUBLE_EQ(detail.config.contact_projection, 0.002);
   EXPECT_EQ(ckpt.config.contact_projection, 0.0);
+  EXPECT_DOUBLE_EQ(detail.config.strain_limit, 0.1);
+  EXPECT_EQ(ckpt.config.strain_limit, 0.0);
+  EXPECT_EQ(method_name(detail.config), "Pb4U + projection + strain limit");
   EXPECT_EQ(detail.model->config.update_scaling, "detail");  // the network computes with it
   auto pa = ckpt.model->named_parameters(), pb = detail.model->named_parameters();
   for (const auto& p : pa) EXPECT_TRUE(torch::equal(p.value(), pb[p.key()])) << p.key();
@@ -176,6 +180,8 @@ TEST(MethodName, FollowsTheModelConfig) {
   EXPECT_EQ(method_name(c), "MGN");  // the paper's baseline: fixed depth, no scaling
   c.contact_projection = 0.002;
   EXPECT_EQ(method_name(c), "MGN + projection");
+  c.strain_limit = 0.1;
+  EXPECT_EQ(method_name(c), "MGN + projection + strain limit");
 }
 
 TEST(Evaluate, JsonHasEveryActiveTermPerLevelAndMethod) {

@@ -47,7 +47,8 @@ bool is_model_export(const std::string& path);
 void export_model_file(const ModelFile& model, const std::string& out);
 
 // The method's name for tables, from its config: "Pb4U", "MGN", "Pb4U w/o PC",
-// "Pb4U w/o US" or "Pb4U w/o both", with " + projection" when it projects out of the body.
+// "Pb4U w/o US" or "Pb4U w/o both", with " + projection" when it projects out of the body and
+// " + strain limit" when it limits edge strain.
 std::string method_name(const ModelConfig& config);
 
 // Number of scalar learned parameters (buffers excluded).

@@ -20,6 +20,10 @@ struct ModelConfig {
   // m; > 0: at inference each step's garment is pushed out of the body to this distance
   // (physics/contact_projection.h), 0: the network's step as it is (training never projects).
   double contact_projection = 0.0;
+  // > 0: at inference no edge of a step's garment stays longer than (1 + strain_limit) times its
+  // rest length (physics/strain_limiting.h; 0.1: 10%), alternated with the contact projection
+  // (physics/step_constraints.h). 0: off (training never limits).
+  double strain_limit = 0.0;
   int latent = 128;                        // width of every latent vector and hidden layer
   int mlp_hidden_layers = 2;               // hidden layers per MLP
   int num_blocks = 15;                     // N MeshGraphNet blocks in the update stack
@@ -54,6 +58,7 @@ struct ModelConfig {
     v("update_scaling", update_scaling, one_of({"on", "off", "detail"}));
     v("smooth_distance", smooth_distance, positive());
     v("contact_projection", contact_projection, in_range(0.0, 0.05));
+    v("strain_limit", strain_limit, in_range(0.0, 10.0));
     v("latent", latent, int_at_least(1));
     v("mlp_hidden_layers", mlp_hidden_layers, int_at_least(1));
     v("num_blocks", num_blocks, int_at_least(0));
