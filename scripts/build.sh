@@ -42,7 +42,7 @@ tty=0
 [ -t 1 ] && tty=1
 todo=$(cmake --build "$BUILD_DIR" -- -n 2>/dev/null | grep -c '^\[' || true)
 if [ "$todo" -gt 20 ]; then
-  echo "build: $todo steps to run in $BUILD_DIR with $JOBS jobs (a first build takes 12-20 minutes on 2 cores)"
+  echo "build: $todo steps to run in $BUILD_DIR with $JOBS jobs (a first build takes about 9 minutes on 2 cores)"
 fi
 set +o pipefail
 cmake --build "$BUILD_DIR" -j "$JOBS" 2>&1 | progress "$tty"

@@ -6,6 +6,9 @@
 
 namespace pb4u::test {
 
+// The source tree (configs/, data/, scripts/).
+inline const std::string kSource = PB4U_SOURCE_DIR;
+
 // A fresh empty directory under the system temp dir, unique per call.
 std::string temp_dir(const std::string& tag);
 

@@ -22,9 +22,11 @@
 #include "pb4u/physics/cloth_geometry.h"
 #include "pb4u/physics/reference_solver.h"
 #include "pb4u/util/error.h"
+#include "pb4u/util/number_format.h"
 #include "pb4u/util/progress.h"
 #include "pb4u/util/remove_tree.h"
 #include "pb4u/util/runtime.h"
+#include "pb4u/util/stopwatch.h"
 
 namespace pb4u {
 namespace fs = std::filesystem;
@@ -32,27 +34,11 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-double ms_since(Clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
-
 double median(std::vector<double> v) {
   if (v.empty()) return NAN;
   std::sort(v.begin(), v.end());
   const size_t m = v.size() / 2;
   return v.size() % 2 ? v[m] : 0.5 * (v[m - 1] + v[m]);
-}
-
-std::string fixed(double v, int digits) {
-  char s[32];
-  std::snprintf(s, sizeof s, "%.*f", digits, v);
-  return s;
-}
-
-std::string sci(double v) {
-  char s[32];
-  std::snprintf(s, sizeof s, "%.3E", v);
-  return s;
 }
 
 std::string csv_field(const std::string& s) {
@@ -535,7 +521,8 @@ std::string format_bench_table(const BenchResult& result) {
       std::string note = r.diverged ? "  diverged at frame " + std::to_string(r.diverged_at_frame) : "";
       std::snprintf(line, sizeof line, "  %-*s %4lld %12s %12s %12s %12s%s\n", int(w), r.method.c_str(),
                     static_cast<long long>(r.K), fixed(r.latency_ms_median, 1).c_str(),
-                    fixed(r.latency_ms_min, 1).c_str(), sci(r.physics_loss).c_str(), sci(r.positive_loss).c_str(),
+                    fixed(r.latency_ms_min, 1).c_str(), scientific(r.physics_loss, 3).c_str(),
+                    scientific(r.positive_loss, 3).c_str(),
                     note.c_str());
       out << line;
     }

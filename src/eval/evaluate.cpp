@@ -16,6 +16,7 @@
 #include "pb4u/sim/preview.h"
 #include "pb4u/util/error.h"
 #include "pb4u/util/json_text.h"
+#include "pb4u/util/number_format.h"
 #include "pb4u/util/progress.h"
 
 namespace pb4u {
@@ -30,18 +31,6 @@ struct Sequence {
 std::string pretty_term(const std::string& name) {
   std::string s = name;
   if (!s.empty()) s[0] = static_cast<char>(std::toupper(s[0]));
-  return s;
-}
-
-std::string sci(double v) {
-  char s[32];
-  std::snprintf(s, sizeof s, "%.2E", v);
-  return s;
-}
-
-std::string fixed2(double v) {
-  char s[32];
-  std::snprintf(s, sizeof s, "%.2f", v);
   return s;
 }
 
@@ -334,7 +323,7 @@ std::string format_table(const std::vector<LevelResult>& levels) {
       }
       for (size_t i = 0; i < lr.methods.size(); ++i) {
         auto v = value_of(lr.methods[i], row);
-        std::string cell = !v ? "n/a" : pk ? fixed2(*v * pk->table_scale) : sci(*v);
+        std::string cell = !v ? "n/a" : pk ? fixed(*v * pk->table_scale, 2) : scientific(*v, 2);
         if (v && lr.methods.size() > 1 && *v == *best) cell += "*";
         else cell += " ";
         out << std::string(widths[i] - std::min(widths[i], cell.size()), ' ') << cell;

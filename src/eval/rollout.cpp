@@ -9,6 +9,7 @@
 #include "pb4u/physics/reference_solver.h"
 #include "pb4u/physics/step_constraints.h"
 #include "pb4u/util/error.h"
+#include "pb4u/util/stopwatch.h"
 
 namespace pb4u {
 
@@ -81,10 +82,6 @@ bool report_finite(const EnergyReport& r) {
   for (const auto& t : r.terms)
     if (!std::isfinite(t.second)) return false;
   return true;
-}
-
-double ms_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
 // The vertex that moved most from x to x_next, a non-finite one first.

@@ -18,7 +18,7 @@ namespace pb4u {
 namespace {
 namespace fs = std::filesystem;
 
-const std::string kSource = PB4U_SOURCE_DIR;
+using test::kSource;
 const std::string kExport = std::string(PB4U_TEST_DATA) + "/pretrained/pb4u.h5";
 const std::string kBvh = std::string(PB4U_MOCAP_DATA) + "/cmu_131_01.bvh";
 const std::string kMesh = std::string(PB4U_TEST_DATA) + "/meshes/tshirt.obj";

@@ -22,7 +22,7 @@ namespace pb4u {
 namespace {
 namespace fs = std::filesystem;
 
-const std::string kSource = PB4U_SOURCE_DIR;
+using test::kSource;
 
 // A tiny model trained on the CPU for a few steps (its weights matter here, not its quality).
 const std::string& cpu_checkpoint() {

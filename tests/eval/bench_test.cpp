@@ -11,27 +11,15 @@
 
 #include "pb4u/eval/bench.h"
 #include "pb4u/eval/model_file.h"
+#include "eval/eval_test_util.h"
 #include "test_util.h"
 
 namespace pb4u {
 namespace {
 namespace fs = std::filesystem;
 
-const std::string kSource = PB4U_SOURCE_DIR;
-
-std::vector<std::vector<std::string>> read_csv(const std::string& path) {
-  std::vector<std::vector<std::string>> rows;
-  std::istringstream in(test::read_file(path));
-  std::string line;
-  while (std::getline(in, line)) {
-    std::vector<std::string> cells;
-    std::stringstream ss(line);
-    std::string cell;
-    while (std::getline(ss, cell, ',')) cells.push_back(cell);
-    rows.push_back(cells);
-  }
-  return rows;
-}
+using test::kSource;
+using test::read_csv;
 
 std::string bench_args(const std::string& out, const std::string& extra = "") {
   return "-q --threads 1 bench --config " + kSource + "/configs/bench/tiny.yaml --set dataset=" +

@@ -22,13 +22,15 @@
 #include "pb4u/train/training_data.h"
 #include "pb4u/util/error.h"
 #include "pb4u/util/runtime.h"
+#include "eval/eval_test_util.h"
 #include "test_util.h"
 
 namespace pb4u {
 namespace {
 namespace fs = std::filesystem;
+using test::tiny_eval;
 
-const std::string kSource = PB4U_SOURCE_DIR;
+using test::kSource;
 
 // A model trained for a few steps (its weights are what matters here, not its quality).
 const std::string& tiny_checkpoint() {
@@ -43,11 +45,6 @@ const std::string& tiny_checkpoint() {
     return out + "/final.pt";
   }();
   return path;
-}
-
-EvalConfig tiny_eval(std::vector<std::string> sets = {}) {
-  sets.push_back("dataset=" + test::tiny_dataset());
-  return load_config<EvalConfig>(kSource + "/configs/eval/tiny.yaml", sets);
 }
 
 // The same model with a NaN in its decoder: every step is non-finite.

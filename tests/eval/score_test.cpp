@@ -16,25 +16,15 @@
 #include "pb4u/sim/preview.h"
 #include "pb4u/sim/simulate.h"
 #include "pb4u/util/error.h"
+#include "eval/eval_test_util.h"
 #include "test_util.h"
 
 namespace pb4u {
 namespace {
 
 namespace fs = std::filesystem;
-const std::string kSource = PB4U_SOURCE_DIR;
-
-std::vector<std::vector<std::string>> read_csv(const std::string& path) {
-  std::ifstream in(path);
-  std::vector<std::vector<std::string>> rows;
-  for (std::string line; std::getline(in, line);) {
-    std::vector<std::string> cells;
-    std::stringstream s(line);
-    for (std::string cell; std::getline(s, cell, ',');) cells.push_back(cell);
-    rows.push_back(cells);
-  }
-  return rows;
-}
+using test::kSource;
+using test::read_csv;
 
 void expect_same_csv(const std::string& expected_path, const std::string& actual_text) {
   const std::string actual_path = expected_path + ".score.csv";

@@ -12,12 +12,14 @@
 #include "pb4u/sim/simulate.h"
 #include "pb4u/util/error.h"
 #include "pb4u/util/runtime.h"
+#include "eval/eval_test_util.h"
 #include "test_util.h"
 
 namespace pb4u {
 namespace {
+using test::tiny_eval;
 
-const std::string kSource = PB4U_SOURCE_DIR;
+using test::kSource;
 
 const ModelFile& shipped() {
   static const ModelFile m = [] {
@@ -25,11 +27,6 @@ const ModelFile& shipped() {
     return load_model_file(kSource + "/data/pretrained/pb4u.h5");
   }();
   return m;
-}
-
-EvalConfig tiny_eval(std::vector<std::string> sets) {
-  sets.push_back("dataset=" + test::tiny_dataset());
-  return load_config<EvalConfig>(kSource + "/configs/eval/tiny.yaml", sets);
 }
 
 std::string error_of(const std::function<void()>& f) {

@@ -17,7 +17,7 @@
 namespace pb4u {
 namespace {
 
-const std::string kSource = PB4U_SOURCE_DIR;
+using test::kSource;
 
 struct SkirtOnAWalk {
   Dataset data;

@@ -16,17 +16,17 @@
 namespace pb4u {
 namespace {
 
-constexpr double kR = 0.3, kGap = 0.002, kLimit = 0.1;
+constexpr double kRadius = 0.3, kGap = 0.002, kLimit = 0.1;
 
 struct ThrownVertex {
-  TriMesh cloth, sphere = test::icosphere(kR, 4, Eigen::RowVector3d::Zero());
-  FrameState state = test::cloth_above_sphere(12, 0.48, kR, 0.005, 4, &cloth);
+  TriMesh cloth, sphere = test::icosphere(kRadius, 4, Eigen::RowVector3d::Zero());
+  FrameState state = test::cloth_above_sphere(12, 0.48, kRadius, 0.005, 4, &cloth);
   GarmentTopology topology = build_garment_topology(cloth);
   torch::Tensor x_next;
   ThrownVertex() {
     Eigen::MatrixXd x = cloth.V;
     // The centre vertex (grid 12: row 6, column 6), 6 cm inside the sphere's side.
-    x.row(6 * 13 + 6) << kR - 0.06, 0.05, 0.0;
+    x.row(6 * 13 + 6) << kRadius - 0.06, 0.05, 0.0;
     x_next = matrix_to_tensor(x);
   }
   double max_strain(const torch::Tensor& x) const { return limit_edge_strain(x, topology, torch::Tensor(), kLimit, 0).max_strain; }

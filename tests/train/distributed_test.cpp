@@ -31,7 +31,7 @@ namespace {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
-const std::string kSource = PB4U_SOURCE_DIR;
+using test::kSource;
 
 // A TCP port nobody listens on now (the kernel's pick for port 0).
 int free_port() {
@@ -125,7 +125,7 @@ TEST(Distributed, BadOptionsAndAMissingRankAreOneLineErrors) {
   EXPECT_LT(seconds, 15) << m;
 }
 
-TrainConfig tiny_config(const std::string& out, const std::vector<std::string>& overrides = {}) {
+TrainConfig tiny_distributed_config(const std::string& out, const std::vector<std::string>& overrides = {}) {
   // Short enough for a test, long enough to see the normaliser warm-up end (10 forwards) and
   // rollouts of two steps.
   std::vector<std::string> sets{"run.steps=6", "run.checkpoint_every=3", "curriculum.steps_per_increase=2",
@@ -178,7 +178,7 @@ TEST(Distributed, TwoRanksTrainLikeOneProcessOverTheCombinedBatchThroughAResume)
   if (!distributed_available()) GTEST_SKIP() << "built without Gloo";
   configure_threads(1);
   const std::string root = test::temp_dir("ddp_equal");
-  TrainConfig single_cfg = tiny_config(root + "/single", {"run.batch=2"});
+  TrainConfig single_cfg = tiny_distributed_config(root + "/single", {"run.batch=2"});
   TrainingData data = load_training_data(single_cfg.data);
   Trainer single(single_cfg, config_to_yaml(single_cfg), data, false);
   const Tensors initial = state_of(single);
@@ -187,7 +187,7 @@ TEST(Distributed, TwoRanksTrainLikeOneProcessOverTheCombinedBatchThroughAResume)
 
   // Two ranks of batch 1, interrupted after step 3 and resumed as a group from rank 0's
   // checkpoint (rank 1 never sees the run directory).
-  TrainConfig ddp_cfg = tiny_config(root + "/ddp");
+  TrainConfig ddp_cfg = tiny_distributed_config(root + "/ddp");
   train_ranks(2, ddp_cfg, data, false, /*stop_at=*/3);
   std::vector<Tensors> ranks = train_ranks(2, ddp_cfg, data, /*resume=*/true);
   ASSERT_EQ(ranks[0].size(), expected.size());
@@ -197,7 +197,7 @@ TEST(Distributed, TwoRanksTrainLikeOneProcessOverTheCombinedBatchThroughAResume)
 
   // The comparison can fail: training moved the weights, and one rank alone trains otherwise.
   EXPECT_GT(max_difference(initial, expected), 1e-4);
-  TrainConfig alone_cfg = tiny_config(root + "/alone");
+  TrainConfig alone_cfg = tiny_distributed_config(root + "/alone");
   Trainer alone(alone_cfg, config_to_yaml(alone_cfg), data, false);
   alone.run();
   EXPECT_GT(max_difference(state_of(alone), expected), 1e-4);
@@ -238,7 +238,7 @@ TEST(Distributed, RanksRefuseToStartOnAnotherConfigAnOccupiedRunOrAPartialResume
   if (!distributed_available()) GTEST_SKIP() << "built without Gloo";
   configure_threads(1);
   const std::string root = test::temp_dir("ddp_refuse");
-  TrainConfig c = tiny_config(root + "/run", {"run.checkpoint_every=1", "run.steps=1"});
+  TrainConfig c = tiny_distributed_config(root + "/run", {"run.checkpoint_every=1", "run.steps=1"});
   TrainingData data = load_training_data(c.data);
   TrainConfig other = c;
   other.run.seed = 1;

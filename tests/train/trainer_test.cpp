@@ -24,7 +24,7 @@ namespace pb4u {
 namespace {
 namespace fs = std::filesystem;
 
-const std::string kSource = PB4U_SOURCE_DIR;
+using test::kSource;
 
 TrainConfig tiny_config(const std::string& out, std::vector<std::string> sets = {}) {
   sets.push_back("data.dataset=" + test::tiny_dataset());

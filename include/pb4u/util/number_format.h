@@ -1,0 +1,22 @@
+#pragma once
+// Numbers as text for tables and CSVs: printf's %.*E and %.*f.
+#include <cstdio>
+#include <string>
+
+namespace pb4u {
+
+// v in scientific notation with `digits` after the point: scientific(1234.5, 2) = "1.23E+03".
+inline std::string scientific(double v, int digits) {
+  char s[40];
+  std::snprintf(s, sizeof s, "%.*E", digits, v);
+  return s;
+}
+
+// v with `digits` after the point: fixed(3.14159, 2) = "3.14".
+inline std::string fixed(double v, int digits) {
+  char s[40];
+  std::snprintf(s, sizeof s, "%.*f", digits, v);
+  return s;
+}
+
+}  // namespace pb4u
