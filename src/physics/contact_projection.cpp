@@ -1,5 +1,6 @@
 #include "pb4u/physics/contact_projection.h"
 
+#include <optional>
 #include <vector>
 
 #include "pb4u/spatial/signed_distance_to_surface.h"
@@ -18,23 +19,13 @@ torch::Tensor project_along_matched_faces(const torch::Tensor& x_next, const Bod
   return x_next + push.unsqueeze(1) * normal;
 }
 
-// The body at t + dt as Eigen matrices, for the exact distance queries.
-struct BodySurface {
-  Eigen::MatrixXd V;
-  Eigen::MatrixXi F;
-  explicit BodySurface(const BodyFrame& body) : V(tensor_to_matrix(body.next_vertices.to(torch::kCPU, torch::kFloat64))) {
-    const torch::Tensor faces = body.faces.to(torch::kCPU, torch::kInt32).contiguous();
-    F = Eigen::Map<const Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>>(faces.data_ptr<int>(), faces.size(0), 3);
-  }
-};
-
 // Pass 2: out to `gap` from the closest point of the body surface.
-torch::Tensor project_to_surface_distance(const torch::Tensor& x_next, const BodySurface& body, double gap,
+torch::Tensor project_to_surface_distance(const torch::Tensor& x_next, const ProjectionSurface& body, double gap,
                                           const torch::Tensor& pinned) {
   Eigen::MatrixXd x = tensor_to_matrix(x_next.to(torch::kCPU, torch::kFloat64));
   // Only vertices within `gap` of the body's bounding box can be within `gap` of the body.
-  const Eigen::RowVector3d lo = body.V.colwise().minCoeff().array() - gap;
-  const Eigen::RowVector3d hi = body.V.colwise().maxCoeff().array() + gap;
+  const Eigen::RowVector3d lo = body.lower().array() - gap;
+  const Eigen::RowVector3d hi = body.upper().array() + gap;
   const torch::Tensor fixed = pinned.defined() ? pinned.to(torch::kCPU, torch::kBool).contiguous() : torch::Tensor();
   std::vector<Eigen::Index> near;
   for (Eigen::Index i = 0; i < x.rows(); ++i) {
@@ -44,7 +35,7 @@ torch::Tensor project_to_surface_distance(const torch::Tensor& x_next, const Bod
   if (near.empty()) return x_next;
   Eigen::MatrixXd points(near.size(), 3);
   for (size_t k = 0; k < near.size(); ++k) points.row(k) = x.row(near[k]);
-  const SurfaceProjection p = project_onto_surface(points, body.V, body.F);
+  const SurfaceProjection p = body.query().project(points);
   bool moved = false;
   for (size_t k = 0; k < near.size(); ++k) {
     if (p.distance(k) >= gap) continue;
@@ -58,13 +49,12 @@ torch::Tensor project_to_surface_distance(const torch::Tensor& x_next, const Bod
 // narrower than the gap (between the legs, under an arm) the plane push would put it into the
 // other side, which the exact pass had just moved it out of.
 torch::Tensor reproject_along_matched_faces(const torch::Tensor& x_next, const BodyContact& contact,
-                                            const BodySurface& body, double gap, const torch::Tensor& pinned) {
+                                            const ProjectionSurface& body, double gap, const torch::Tensor& pinned) {
   const torch::Tensor pushed = project_along_matched_faces(x_next, contact, gap, pinned);
   const torch::Tensor moved = (pushed != x_next).any(1).nonzero().squeeze(1);
   if (moved.numel() == 0) return x_next;
   const torch::Tensor candidates = pushed.index_select(0, moved);
-  const SurfaceProjection p =
-      project_onto_surface(tensor_to_matrix(candidates.to(torch::kCPU, torch::kFloat64)), body.V, body.F);
+  const SurfaceProjection p = body.query().project(tensor_to_matrix(candidates.to(torch::kCPU, torch::kFloat64)));
   const torch::Tensor outside =
       torch::from_blob(const_cast<double*>(p.distance.data()), {static_cast<int64_t>(p.distance.size())}, torch::kFloat64).ge(0).to(moved.device());
   torch::Tensor out = x_next.clone();
@@ -74,12 +64,25 @@ torch::Tensor reproject_along_matched_faces(const torch::Tensor& x_next, const B
 
 }  // namespace
 
+ProjectionSurface::ProjectionSurface(const BodyFrame& body)
+    : ProjectionSurface(tensor_to_matrix(body.next_vertices.to(torch::kCPU, torch::kFloat64)), body.faces) {}
+
+ProjectionSurface::ProjectionSurface(const Eigen::MatrixXd& V, const torch::Tensor& faces)
+    : query_(V, Eigen::Map<const Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>>(
+                    faces.to(torch::kCPU, torch::kInt32).contiguous().data_ptr<int>(), faces.size(0), 3)),
+      lower_(V.colwise().minCoeff()),
+      upper_(V.colwise().maxCoeff()) {}
+
+ProjectionSurface::~ProjectionSurface() = default;
+
 torch::Tensor project_out_of_body(const torch::Tensor& x_next, const FrameState& state, const BodyContact* contact,
-                                  double gap) {
+                                  double gap, const ProjectionSurface* surface) {
   if (!(gap > 0) || !state.body.defined() || !state.body.next_vertices.defined()) return x_next;
   const torch::Tensor pinned =
       state.pinned.defined() && state.pinned.numel() == x_next.size(0) ? state.pinned : torch::Tensor();
-  const BodySurface body(state.body);
+  std::optional<ProjectionSurface> prepared;
+  if (!surface) surface = &prepared.emplace(state.body);
+  const ProjectionSurface& body = *surface;
   if (!contact) return project_to_surface_distance(x_next, body, gap, pinned);
   const torch::Tensor along_faces = project_along_matched_faces(x_next, *contact, gap, pinned);
   const torch::Tensor outside = project_to_surface_distance(along_faces, body, gap, pinned);

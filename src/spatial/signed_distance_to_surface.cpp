@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -76,23 +77,39 @@ Eigen::Vector3d pseudo_normal(const Surface& s, int f, TriangleFeature feature) 
 
 }  // namespace
 
-SurfaceProjection project_onto_surface(const Eigen::MatrixXd& points, const Eigen::MatrixXd& V,
-                                       const Eigen::MatrixXi& F) {
-  if (points.cols() != 3 || V.cols() != 3 || F.cols() != 3)
-    throw Error("signed distance: points, surface vertices and faces must have 3 columns");
-  if (!points.allFinite()) throw Error("signed distance: the points are not finite");
+struct SurfaceQuery::Impl {
+  Eigen::MatrixXd V;
+  Eigen::MatrixXi F;
+  Surface surface;  // refers to V and F above: an Impl is never moved (held by unique_ptr)
+  std::unique_ptr<PointKdTree> tree;
+
+  Impl(const Eigen::MatrixXd& V_, const Eigen::MatrixXi& F_) : V(V_), F(F_), surface(build_surface(V, F)) {
+    if (surface.faces.empty()) throw Error("signed distance: the surface has no face of positive area");
+    Eigen::MatrixXd centroids(surface.faces.size(), 3);
+    for (size_t i = 0; i < surface.faces.size(); ++i) {
+      const int f = surface.faces[i];
+      centroids.row(i) = ((surface.corner(f, 0) + surface.corner(f, 1) + surface.corner(f, 2)) / 3.0).transpose();
+    }
+    tree = std::make_unique<PointKdTree>(centroids);
+  }
+};
+
+SurfaceQuery::SurfaceQuery(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F) {
+  if (V.cols() != 3 || F.cols() != 3) throw Error("signed distance: surface vertices and faces must have 3 columns");
   if (!V.allFinite()) throw Error("signed distance: the surface vertices are not finite");
   if (F.rows() > 0 && (F.minCoeff() < 0 || F.maxCoeff() >= V.rows()))
     throw Error("signed distance: a surface face index is out of range");
-  const Surface s = build_surface(V, F);
-  if (s.faces.empty()) throw Error("signed distance: the surface has no face of positive area");
+  impl_ = std::make_unique<Impl>(V, F);
+}
+SurfaceQuery::~SurfaceQuery() = default;
+SurfaceQuery::SurfaceQuery(SurfaceQuery&&) noexcept = default;
+SurfaceQuery& SurfaceQuery::operator=(SurfaceQuery&&) noexcept = default;
 
-  Eigen::MatrixXd centroids(s.faces.size(), 3);
-  for (size_t i = 0; i < s.faces.size(); ++i) {
-    const int f = s.faces[i];
-    centroids.row(i) = ((s.corner(f, 0) + s.corner(f, 1) + s.corner(f, 2)) / 3.0).transpose();
-  }
-  const PointKdTree tree(centroids);
+SurfaceProjection SurfaceQuery::project(const Eigen::MatrixXd& points) const {
+  if (points.cols() != 3) throw Error("signed distance: points, surface vertices and faces must have 3 columns");
+  if (!points.allFinite()) throw Error("signed distance: the points are not finite");
+  const Surface& s = impl_->surface;
+  const PointKdTree& tree = *impl_->tree;
   Eigen::VectorXi nearest;
   tree.nearest(points, &nearest);
 
@@ -124,6 +141,13 @@ SurfaceProjection project_onto_surface(const Eigen::MatrixXd& points, const Eige
     out.outward.row(i) = outward.transpose();
   }
   return out;
+}
+
+SurfaceProjection project_onto_surface(const Eigen::MatrixXd& points, const Eigen::MatrixXd& V,
+                                       const Eigen::MatrixXi& F) {
+  if (points.cols() != 3) throw Error("signed distance: points, surface vertices and faces must have 3 columns");
+  if (!points.allFinite()) throw Error("signed distance: the points are not finite");
+  return SurfaceQuery(V, F).project(points);
 }
 
 Eigen::VectorXd signed_distance_to_surface(const Eigen::MatrixXd& points, const Eigen::MatrixXd& V,

@@ -76,20 +76,43 @@ TEST(ContactProjection, PinnedVerticesNoBodyAndZeroGapLeaveTheStepAsItIs) {
   EXPECT_TRUE(project_out_of_body(x, no_body, nullptr, 0.002).equal(x));
 }
 
-// The collision energy of the step x -> x_next ((n, 3) each) before and after projecting x_next
-// out of `body` (static); the contact is matched at x, as in a rollout.
-std::pair<double, double> collision_before_and_after(const torch::Tensor& x, const torch::Tensor& x_next,
-                                                     const TriMesh& body) {
+// A garment at x ((n, 3) m) beside a static body, with collision on.
+FrameState static_body_state(const torch::Tensor& x, const TriMesh& body) {
   FrameState state;
   state.x = state.x_prev = x;
   state.effects.collision = true;
   state.body.vertices = state.body.next_vertices = matrix_to_tensor(body.V);
   state.body.faces = index_matrix_to_tensor(body.F);
-  PhysicsConfig physics;
-  const BodyContact contact = query_body_contact(x, state.body, physics.friction.contact_radius, physics.degenerate_area);
-  const double eps = physics.collision.eps;
+  return state;
+}
+
+// The step's contact, matched at the state's x as in a rollout.
+BodyContact contact_at(const FrameState& state) {
+  const PhysicsConfig physics;
+  return query_body_contact(state.x, state.body, physics.friction.contact_radius, physics.degenerate_area);
+}
+
+// The collision energy of the step x -> x_next ((n, 3) each) before and after projecting x_next
+// out of `body` (static); the contact is matched at x, as in a rollout.
+std::pair<double, double> collision_before_and_after(const torch::Tensor& x, const torch::Tensor& x_next,
+                                                     const TriMesh& body) {
+  const FrameState state = static_body_state(x, body);
+  const BodyContact contact = contact_at(state);
+  const double eps = PhysicsConfig().collision.eps;
   return {collision_energy(x_next, contact, eps, 1.0).item<double>(),
           collision_energy(project_out_of_body(x_next, state, &contact, eps), contact, eps, 1.0).item<double>()};
+}
+
+// A garment step on a static body: every body vertex moved ~1 cm in a random direction at t
+// (x), and ~1 cm more at t + dt (x_next).
+std::pair<Eigen::MatrixXd, Eigen::MatrixXd> jittered_step(const TriMesh& body, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> offset(0.0, 0.01);
+  Eigen::MatrixXd x = body.V, x_next(body.V.rows(), 3);
+  for (Eigen::Index i = 0; i < x.rows(); ++i) x.row(i) += Eigen::RowVector3d(offset(rng), offset(rng), offset(rng));
+  for (Eigen::Index i = 0; i < x.rows(); ++i)
+    x_next.row(i) = x.row(i) + Eigen::RowVector3d(offset(rng), offset(rng), offset(rng));
+  return {x, x_next};
 }
 
 TEST(ContactProjection, AfterwardsTheCollisionTermMeasuresNothing) {
@@ -105,16 +128,26 @@ TEST(ContactProjection, AfterwardsTheCollisionTermMeasuresNothing) {
 
   const Dataset data = read_dataset(test::tiny_dataset());
   const TriMesh& body = data.bodies.front().body.mesh;
-  std::mt19937 rng(2);
-  std::normal_distribution<double> offset(0.0, 0.01);
-  // Every body vertex moved ~1 cm in a random direction at t, and ~1 cm more at t + dt.
-  Eigen::MatrixXd x = body.V, x_next(body.V.rows(), 3);
-  for (Eigen::Index i = 0; i < x.rows(); ++i) x.row(i) += Eigen::RowVector3d(offset(rng), offset(rng), offset(rng));
-  for (Eigen::Index i = 0; i < x.rows(); ++i)
-    x_next.row(i) = x.row(i) + Eigen::RowVector3d(offset(rng), offset(rng), offset(rng));
+  const auto [x, x_next] = jittered_step(body, 2);
   const auto mannequin = collision_before_and_after(matrix_to_tensor(x), matrix_to_tensor(x_next), body);
   EXPECT_GT(mannequin.first, 0.0);
   EXPECT_LT(mannequin.second, 1e-15);
+}
+
+// A body prepared once (as the rounds of a step's constraints use it) projects exactly as the
+// body prepared per call: the same step, bit for bit, on the concave mannequin.
+TEST(ContactProjection, APreparedBodyGivesTheSameStep) {
+  const Dataset data = read_dataset(test::tiny_dataset());
+  const TriMesh& body = data.bodies.front().body.mesh;
+  const auto [x, x_next] = jittered_step(body, 3);
+  const FrameState state = static_body_state(matrix_to_tensor(x), body);
+  const BodyContact contact = contact_at(state);
+  const ProjectionSurface prepared(state.body);
+  const torch::Tensor step = matrix_to_tensor(x_next);
+  const torch::Tensor once = project_out_of_body(step, state, &contact, 0.004);
+  ASSERT_FALSE(once.equal(step)) << "the case must move vertices";
+  EXPECT_TRUE(project_out_of_body(step, state, &contact, 0.004, &prepared).equal(once));
+  EXPECT_TRUE(project_out_of_body(step, state, nullptr, 0.004, &prepared).equal(project_out_of_body(step, state, nullptr, 0.004)));
 }
 
 // Pass 3 (the plane pass again) never pushes a vertex into the body. Two spheres 5 cm apart:
@@ -135,14 +168,8 @@ TEST(ContactProjection, ThePlanePassAgainNeverPushesAVertexIntoTheBody) {
   Eigen::MatrixXd x(1, 3), x_next(1, 3);
   x << 0.31, 1.2, 0;        // 7 cm from A along ~(0.84, 0.54, 0), 14 cm from B
   x_next << 0.45, 1.0, 0;  // 5 cm inside B
-  FrameState state;
-  state.x = state.x_prev = matrix_to_tensor(x);
-  state.effects.collision = true;
-  state.body.vertices = state.body.next_vertices = matrix_to_tensor(body.V);
-  state.body.faces = index_matrix_to_tensor(body.F);
-  PhysicsConfig physics;
-  const BodyContact contact =
-      query_body_contact(state.x, state.body, physics.friction.contact_radius, physics.degenerate_area);
+  const FrameState state = static_body_state(matrix_to_tensor(x), body);
+  const BodyContact contact = contact_at(state);
   const Eigen::RowVector3d normal = tensor_to_matrix(contact.normal).row(0);
   ASSERT_GT(normal.dot(Eigen::RowVector3d(0.84, 0.54, 0).normalized()), 0.99) << "matched to a face of A";
   const Eigen::MatrixXd out = tensor_to_matrix(project_out_of_body(matrix_to_tensor(x_next), state, &contact, gap));

@@ -89,6 +89,22 @@ TEST(SignedDistance, SphereIsRMinusRAndMatchesBruteForce) {
   }
 }
 
+// A surface prepared once answers every later query exactly as a one-off query does.
+TEST(SignedDistance, APreparedSurfaceAnswersAsTheOneOffQuery) {
+  const TriMesh sphere = test::icosphere(0.3, 3, Eigen::RowVector3d(0.1, 1.2, -0.2));
+  const SurfaceQuery prepared(sphere.V, sphere.F);
+  for (int seed : {7, 8}) {
+    std::vector<double> radii;
+    for (int k = 0; k < 30; ++k) radii.push_back(0.3 * (0.1 + 0.06 * k));
+    const Eigen::MatrixXd P = points_at_radii(radii, Eigen::RowVector3d(0.1, 1.2, -0.2), seed);
+    const SurfaceProjection a = prepared.project(P), b = project_onto_surface(P, sphere.V, sphere.F);
+    EXPECT_EQ(a.distance, b.distance) << "seed " << seed;
+    EXPECT_EQ(a.closest, b.closest) << "seed " << seed;
+    EXPECT_EQ(a.outward, b.outward) << "seed " << seed;
+  }
+  EXPECT_THROW(prepared.project(Eigen::MatrixXd::Constant(1, 3, NAN)), Error);
+}
+
 TEST(Penetration, SphereFractionAndDeepestPoint) {
   const double R = 0.3;
   const Eigen::RowVector3d centre(0, 1, 0);

@@ -17,6 +17,7 @@
 #include <torch/torch.h>
 
 #include "pb4u/physics/body_queries.h"
+#include "pb4u/spatial/signed_distance_to_surface.h"
 #include "pb4u/scene/frame_state.h"
 
 namespace pb4u {
@@ -26,7 +27,25 @@ namespace pb4u {
 // and device) with the projected rows moved; gap <= 0 or a state without a body returns it as is.
 // With gap >= the collision term's eps the returned step has zero collision energy, except
 // where that would take a vertex into the body (pass 3).
+// The body at t + dt prepared for passes 2 and 3 (spatial/signed_distance_to_surface.h). A
+// step that projects several times (step_constraints.h) prepares it once.
+class ProjectionSurface {
+ public:
+  explicit ProjectionSurface(const BodyFrame& body);  // body.next_vertices must be defined
+  ~ProjectionSurface();
+  const SurfaceQuery& query() const { return query_; }
+  const Eigen::RowVector3d& lower() const { return lower_; }  // m: bounding box of the body
+  const Eigen::RowVector3d& upper() const { return upper_; }
+
+ private:
+  ProjectionSurface(const Eigen::MatrixXd& V, const torch::Tensor& faces);
+  SurfaceQuery query_;
+  Eigen::RowVector3d lower_, upper_;
+};
+
+// surface: the state's body prepared, or null to prepare it here.
 torch::Tensor project_out_of_body(const torch::Tensor& x_next, const FrameState& state,
-                                  const BodyContact* contact, double gap);
+                                  const BodyContact* contact, double gap,
+                                  const ProjectionSurface* surface = nullptr);
 
 }  // namespace pb4u

@@ -4,6 +4,7 @@
 // distance on them, the sign from the angle-weighted pseudo-normal of the closest feature
 // (face, edge or corner; Baerentzen & Aanaes 2005), which is exact for a closed manifold.
 #include <Eigen/Core>
+#include <memory>
 
 namespace pb4u {
 
@@ -31,5 +32,24 @@ struct SurfaceProjection {
 };
 SurfaceProjection project_onto_surface(const Eigen::MatrixXd& points, const Eigen::MatrixXd& V,
                                        const Eigen::MatrixXi& F);
+
+// One surface prepared for many queries: its normals, pseudo-normals and the KD-tree of its
+// face centroids are built once (a body of 13776 faces: a few ms, more than a query of a
+// thousand points). The rounds of a step's constraints ask about the same body each time.
+class SurfaceQuery {
+ public:
+  // V, F as above (copied); throws pb4u::Error as above.
+  SurfaceQuery(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F);
+  ~SurfaceQuery();
+  SurfaceQuery(SurfaceQuery&&) noexcept;
+  SurfaceQuery& operator=(SurfaceQuery&&) noexcept;
+
+  // project_onto_surface(points, V, F), without rebuilding the surface.
+  SurfaceProjection project(const Eigen::MatrixXd& points) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
 
 }  // namespace pb4u
