@@ -109,21 +109,28 @@ namespace {
 // garments; without a body in the effects, each garment once, from rest.
 std::vector<Sequence> level_sequences(const Dataset& data, const EvalConfig& config, const Effects& effects,
                                       int level) {
+  const auto listed = [](const std::vector<std::string>& names, const std::string& name) {
+    return names.empty() || std::find(names.begin(), names.end(), name) != names.end();
+  };
+  if (effects.needs_body())
+    for (const std::string& name : config.motions)
+      if (std::none_of(data.motions.begin(), data.motions.end(),
+                       [&](const MotionRecord& m) { return m.name == name && m.split == config.split; }))
+        throw Error(config.dataset + ": motions: '" + name + "' is not a motion of split '" + config.split + "'");
   std::vector<Sequence> sequences;
   for (const auto& record : data.bodies) {
     std::vector<const MotionRecord*> motions;
     if (effects.needs_body()) {
       for (const auto& m : data.motions)
-        if (m.body == record.body.name && m.split == config.split && m.motion.num_frames() > config.start_frame + 1)
+        if (m.body == record.body.name && m.split == config.split && listed(config.motions, m.name) &&
+            m.motion.num_frames() > config.start_frame + 1)
           motions.push_back(&m);
       if (config.max_sequences > 0 && int(motions.size()) > config.max_sequences) motions.resize(config.max_sequences);
     } else {
       motions.push_back(nullptr);  // from rest: no motion
     }
     for (const auto& g : record.garments) {
-      if (!config.garments.empty() &&
-          std::find(config.garments.begin(), config.garments.end(), g.name) == config.garments.end())
-        continue;
+      if (!listed(config.garments, g.name)) continue;
       for (const MotionRecord* m : motions) sequences.push_back({&record.body, &g.levels.at(level - 1), m});
     }
   }

@@ -104,6 +104,26 @@ TEST(Stability, EvaluateSelectsMotionsBySplit) {
   EXPECT_NE(why.find("no motion of split 'heldout_nowhere'"), std::string::npos) << why;
 }
 
+TEST(Stability, EvaluateKeepsOnlyTheListedMotions) {
+  auto run = [](const std::vector<std::string>& sets) {  // later sets override the defaults
+    std::vector<std::string> all{"levels=[1]", "max_frames=1", "garments=[tshirt]", "split=train", "max_sequences=0"};
+    all.insert(all.end(), sets.begin(), sets.end());
+    return evaluate(tiny_eval(all), {{"Pb4U", &shipped()}})[0].methods[0].per_sequence;
+  };
+  const auto all = run({});
+  ASSERT_GE(all.size(), 2u);
+  const std::string chosen = all.back().motion;
+  const auto only = run({"motions=[" + chosen + "]"});
+  ASSERT_EQ(only.size(), 1u);
+  EXPECT_EQ(only[0].motion, chosen);
+  // A name that is not a motion of the split is an error that names it, not an empty run.
+  const std::string test_motion = run({"split=test"}).at(0).motion;
+  for (const std::string& name : {std::string("no_such_motion"), test_motion}) {
+    const std::string why = error_of([&] { run({"motions=[" + name + "]"}); });
+    EXPECT_NE(why.find("motions: '" + name + "' is not a motion of split 'train'"), std::string::npos) << why;
+  }
+}
+
 TEST(Stability, BodylessEvaluationHangsEachGarmentFromItsTopBand) {
   const EvalConfig config =
       tiny_eval({"levels=[1]", "max_frames=3", "effects=[gravity, pins]", "pins.top_band=0.02"});

@@ -35,6 +35,7 @@ struct EvalConfig {
   std::vector<int> levels{1, 2, 3, 4};  // 1-based, as in the dataset
   std::vector<std::string> garments;    // garment names; empty = all
   std::string split = "test";  // the motions evaluated: the dataset's motions of this split
+  std::vector<std::string> motions;     // motion names of that split; empty = all of them
   int max_sequences = 0;   // motions per garment and body, 0 = all
   int max_frames = 0;      // frames rolled out per sequence, 0 = the whole motion (needed > 0 without a body)
   int start_frame = 1;     // LBS-initialised start (needs the frame before it)
@@ -57,6 +58,7 @@ struct EvalConfig {
     v("levels", levels);
     v("garments", garments);
     v("split", split);
+    v("motions", motions);
     v("max_sequences", max_sequences, int_at_least(0));
     v("max_frames", max_frames, int_at_least(0));
     v("start_frame", start_frame, int_at_least(1));
