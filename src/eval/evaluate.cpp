@@ -112,11 +112,6 @@ std::vector<Sequence> level_sequences(const Dataset& data, const EvalConfig& con
   const auto listed = [](const std::vector<std::string>& names, const std::string& name) {
     return names.empty() || std::find(names.begin(), names.end(), name) != names.end();
   };
-  if (effects.needs_body())
-    for (const std::string& name : config.motions)
-      if (std::none_of(data.motions.begin(), data.motions.end(),
-                       [&](const MotionRecord& m) { return m.name == name && m.split == config.split; }))
-        throw Error(config.dataset + ": motions: '" + name + "' is not a motion of split '" + config.split + "'");
   std::vector<Sequence> sequences;
   for (const auto& record : data.bodies) {
     std::vector<const MotionRecord*> motions;
@@ -201,7 +196,13 @@ std::vector<LevelResult> evaluate(const EvalConfig& config, const std::vector<Ev
   if (!effects.needs_body() && config.max_frames <= 0)
     throw Error("max_frames: without a body (no collision or friction among the effects) each garment starts "
                 "at rest and the rollout length must be set (max_frames > 0)");
+  if (!effects.needs_body() && !config.motions.empty())
+    throw Error("motions: without a body each garment hangs from rest and follows no motion (leave motions empty)");
   const Dataset data = read_dataset(config.dataset);
+  for (const std::string& name : config.motions)
+    if (std::none_of(data.motions.begin(), data.motions.end(),
+                     [&](const MotionRecord& m) { return m.name == name && m.split == config.split; }))
+      throw Error(config.dataset + ": motions: '" + name + "' is not a motion of split '" + config.split + "'");
   std::vector<LevelResult> results;
   // The worst sequence of the first network method, for config.preview.
   const EvalMethod* previewed = nullptr;

@@ -122,6 +122,12 @@ TEST(Stability, EvaluateKeepsOnlyTheListedMotions) {
     const std::string why = error_of([&] { run({"motions=[" + name + "]"}); });
     EXPECT_NE(why.find("motions: '" + name + "' is not a motion of split 'train'"), std::string::npos) << why;
   }
+  // Without a body no motion is followed, so naming one is an error rather than ignored.
+  const std::string why = error_of([&] {
+    evaluate(tiny_eval({"effects=[gravity, pins]", "pins.top_band=0.02", "max_frames=3", "motions=[" + chosen + "]"}),
+             {{"Pb4U", &shipped()}});
+  });
+  EXPECT_NE(why.find("motions: without a body"), std::string::npos) << why;
 }
 
 TEST(Stability, BodylessEvaluationHangsEachGarmentFromItsTopBand) {
