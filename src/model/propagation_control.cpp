@@ -27,12 +27,14 @@ int64_t inference_propagation_steps(const ModelConfig& config, double distance,
   return propagation_steps(distance, mean_edge_length);
 }
 
-int64_t sample_propagation_steps(const ModelConfig& config, std::mt19937_64& rng) {
+int64_t sample_propagation_steps(const ModelConfig& config, std::mt19937_64& rng, double depth) {
   if (!config.is_pb4u()) return 0;
   if (!config.propagation_control_on()) return config.k_base;
   validate_model_config(config);
-  const auto lo = static_cast<int64_t>(std::ceil(config.train_k_range[0] * config.k_base));
-  const auto hi = static_cast<int64_t>(std::floor(config.train_k_range[1] * config.k_base));
+  if (!(depth > 0)) throw Error("sample_propagation_steps: the depth factor must be positive");
+  const double k = config.k_base * depth;
+  const auto lo = static_cast<int64_t>(std::ceil(config.train_k_range[0] * k - 1e-9));
+  const auto hi = static_cast<int64_t>(std::floor(config.train_k_range[1] * k + 1e-9));
   return std::uniform_int_distribution<int64_t>(lo, std::max(lo, hi))(rng);
 }
 

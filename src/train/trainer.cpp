@@ -113,12 +113,22 @@ Trainer::Trainer(TrainConfig config, std::string config_yaml, TrainingData data,
   }
   model_->to(device_);
   // Calibrate K on the training resolution: the mean edge length over the training garments.
+  // Every garment at every data.scales factor: topology_ and cloth_ are indexed by
+  // variant(garment, scale); the calibration uses the garments as generated.
+  const auto& scales = config_.data.scales;
+  if (scales.empty()) throw Error("data.scales: expected at least one factor ([1] = as generated)");
+  for (double c : scales)
+    if (!(c > 0 && c <= 10)) throw Error("data.scales: " + std::to_string(c) + " is not a factor in (0, 10]");
   double lbar = 0;
-  for (const auto& g : data_.garments) {
-    topology_.push_back(garment_topology_to(build_garment_topology(g.mesh, g.name), device_));
-    cloth_.push_back(make_cloth_geometry(g.mesh, torch::kFloat32, device_, false,
-                                         config_.physics.degenerate_area));
-    lbar += topology_.back().mean_edge_length;
+  for (int gi = 0; gi < int(data_.garments.size()); ++gi) {
+    const Garment& g = data_.garments[gi];
+    for (double c : scales) {
+      auto mesh = g.mesh;
+      mesh.V *= c;
+      topology_.push_back(garment_topology_to(build_garment_topology(mesh, g.name), device_));
+      cloth_.push_back(make_cloth_geometry(mesh, torch::kFloat32, device_, false, config_.physics.degenerate_area));
+    }
+    lbar += topology_[variant(gi, 0)].mean_edge_length / scales[0];
   }
   model_->calibrate(lbar / data_.garments.size());
   optimizer_ = std::make_unique<torch::optim::Adam>(model_->parameters(),
@@ -232,11 +242,15 @@ Trajectory Trainer::fresh_trajectory(std::mt19937_64& rng, int rollout) {
   tr.frame = std::uniform_int_distribution<int>(1, std::max(1, motion.num_frames() - 1 - r))(rng);
   tr.material = sample_material(config_.materials, Material{}, rng);
   tr.effects = sample_effects(config_.effects, rng);
+  // One factor draws nothing, so runs without scales keep their samples.
+  const auto& scales = config_.data.scales;
+  if (scales.size() > 1) tr.scale = std::uniform_int_distribution<int>(0, int(scales.size()) - 1)(rng);
+  const double c = scales[tr.scale];
 
   const Garment& garment = data_.garments[tr.garment];
   LbsFrame frame = lbs_frame(data_.bodies[bi], garment, motion, tr.frame, config_.data.push_out_gap);
-  tr.x = matrix_to_tensor(frame.garment, torch::kFloat32, device_);
-  tr.x_prev = matrix_to_tensor(frame.garment_prev, torch::kFloat32, device_);
+  tr.x = matrix_to_tensor(frame.garment * c, torch::kFloat32, device_);
+  tr.x_prev = matrix_to_tensor(frame.garment_prev * c, torch::kFloat32, device_);
   const bool waistband = tr.effects.needs_body() && config_.waistband.holds(garment.name);
   if (waistband) tr.effects.pins = true;
   if (tr.effects.pins) {
@@ -264,7 +278,8 @@ Trainer::SampleResult Trainer::train_sample(std::mt19937_64& rng, int slot, int 
     if (!fresh && chains_[slot][chain].active()) tr = chains_[slot][chain];
   }
   if (!tr.active()) tr = fresh_trajectory(rng, rollout);
-  result.K = sample_propagation_steps(config_.model, rng);
+  const double c = config_.data.scales[tr.scale];
+  result.K = sample_propagation_steps(config_.model, rng, 1.0 / c);
   result.age = tr.age;
 
   const int gi = tr.garment;
@@ -281,7 +296,10 @@ Trainer::SampleResult Trainer::train_sample(std::mt19937_64& rng, int slot, int 
   state.material = tr.material;
   state.pinned = tr.pinned;
   const torch::Tensor body_faces = index_matrix_to_tensor(body.mesh.F, device_);
-  auto pose = [&](int k) { return pose_body(body, motion.frames[std::clamp(k, 0, motion.num_frames() - 1)]); };
+  auto pose = [&](int k) {
+    Eigen::MatrixXd v = pose_body(body, motion.frames[std::clamp(k, 0, motion.num_frames() - 1)]);
+    return Eigen::MatrixXd(v * c);
+  };
   Eigen::MatrixXd body_now = pose(tr.frame), body_next = pose(tr.frame + 1);
 
   TermList terms = build_terms(tr.effects, config_.physics, collision_weight);
@@ -299,16 +317,17 @@ Trainer::SampleResult Trainer::train_sample(std::mt19937_64& rng, int slot, int 
     if (tr.effects.pins) {
       // With a body the pins ride on the skinned garment; without one they stay put.
       state.pin_targets = tr.effects.needs_body()
-                              ? matrix_to_tensor(lbs_garment(body, garment, motion, tr.frame + i + 1, body_next,
-                                                             config_.data.push_out_gap),
+                              ? matrix_to_tensor(lbs_garment(body, garment, motion, tr.frame + i + 1, body_next / c,
+                                                             config_.data.push_out_gap) * c,
                                                  torch::kFloat32, device_)
                               : tr.pin_anchor;
     }
-    GraphBatch graph = build_graph(state, topology_[gi], config_.model.graph_options());
+    const int vi = variant(gi, tr.scale);
+    GraphBatch graph = build_graph(state, topology_[vi], config_.model.graph_options());
     torch::Tensor accel = model_->forward(graph, result.K);
     torch::Tensor x_next = euler_step(state, accel);
     std::optional<BodyContact> contact = body_contact_for(state, config_.physics);
-    auto energies = term_energies(terms, x_next, state, cloth_[gi], contact ? &*contact : nullptr);
+    auto energies = term_energies(terms, x_next, state, cloth_[vi], contact ? &*contact : nullptr);
     torch::Tensor step_loss = torch::zeros({}, x_next.options());
     last_positive = 0;
     for (size_t k = 0; k < energies.size(); ++k) {

@@ -19,8 +19,9 @@ int64_t propagation_steps(double propagation_distance, double mean_edge_length);
 int64_t inference_propagation_steps(const ModelConfig& config, double propagation_distance,
                                     double mean_edge_length);
 
-// K for one training step: uniform integer in [lo * K_base, hi * K_base] (config
-// train_k_range) with control on; K_base with control off; 0 for mgn.
-int64_t sample_propagation_steps(const ModelConfig& config, std::mt19937_64& rng);
+// K for one training step: uniform integer in [lo * K_base * depth, hi * K_base * depth]
+// (config train_k_range) with control on; K_base with control off; 0 for mgn. depth > 0: how
+// many times the calibration's K the sample's mesh takes (1 / c for a scene scaled by c).
+int64_t sample_propagation_steps(const ModelConfig& config, std::mt19937_64& rng, double depth = 1.0);
 
 }  // namespace pb4u

@@ -51,6 +51,11 @@ struct TrainDataConfig {
   // 1/30 s step covers more of it): the body moves faster than any recorded motion, as
   // held-out motions may. Empty = the motions as recorded only.
   std::vector<double> speedups;
+  // Each training sample's whole scene (garment, body, motion, pins) is scaled by one of these
+  // factors, picked uniformly: a cloth c times smaller has edges c times shorter, so training
+  // on the coarsest meshes also shows the network the short edges of finer ones (K's range
+  // scales by 1 / c with them). Gravity, dt and the material stay. [1] = as generated.
+  std::vector<double> scales{1.0};
 
   template <class V>
   void visit(V& v) {
@@ -59,6 +64,7 @@ struct TrainDataConfig {
     v("garments", garments);
     v("push_out_gap", push_out_gap, in_range(0, 0.05));
     v("speedups", speedups);
+    v("scales", scales);
   }
 };
 

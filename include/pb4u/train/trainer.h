@@ -66,6 +66,7 @@ struct Trajectory {
   torch::Tensor pinned;       // (n) bool, defined when effects.pins
   torch::Tensor pin_anchor;   // (n, 3) m: where pins hold without a body
   int age = 0;
+  int scale = 0;              // index into data.scales: the whole scene is that many times its size
 
   bool active() const { return garment >= 0; }
 };
@@ -113,8 +114,10 @@ class Trainer {
   torch::Device device_;
   Pb4uNet model_{nullptr};
   std::unique_ptr<torch::optim::Adam> optimizer_;
+  // Per garment and data.scales factor, at variant(garment, scale).
   std::vector<GarmentTopology> topology_;
   std::vector<ClothGeometry> cloth_;
+  int variant(int garment, int scale) const { return garment * int(config_.data.scales.size()) + scale; }
   std::shared_ptr<DistributedGroup> group_;
   std::vector<std::string> term_names_;  // all terms, in Table-1 order: slots of the reduction
   // Replay chains per batch slot (config_.replay.chains each); they restart empty on resume.
