@@ -78,6 +78,28 @@ TEST_F(HardCases, FinestLevelNeverSeenInTraining) {
   }
 }
 
+// A 0.52 m square cloth hanging from its top row at half the training edge (K = 2 K_base;
+// scripts/hanging_resolution.sh has a square at 1/1, 1/2 and 1/3 of it). Held to SPEC 9's 10x
+// of the solver's mean positive energy, with no floor: the solver's is ~0.8 mJ here, well
+// above zero, and the weight x 1 cm floor of check_relative (~0.01 J) would hide the failure
+// this case is for. The model shipped until session 13 sagged to 38x here (the bulk of the
+// cloth held at the 10% strain limit); the one fine-tuned on scenes drawn smaller is at ~6x.
+TEST_F(HardCases, HangingAtHalfTheTrainingEdge) {
+  const double lbar_base = hard::shipped_model().model->mean_edge_length_base();
+  const int res = 40;  // vertices per side: 0.52 m at Lbar_base / 2
+  TriMesh cloth = hard::lattice_cloth(res, res, lbar_base / 2);
+  GarmentTopology topology = build_garment_topology(cloth);
+  RolloutInput in = hard::still_start(cloth, kHanging, Material{}, 30);
+  const auto reference = check_rollout("hanging at Lbar_base/2 / reference", in, reference_stepper({}), {});
+  const auto shipped =
+      check_rollout("hanging at Lbar_base/2 / shipped Pb4U", in, network_stepper(hard::shipped_model(), topology), {});
+  const double ratio = shipped.mean_positive / reference.mean_positive;
+  std::printf("[hard] hanging at Lbar_base/2: mean positive energy %.3g J against the solver's %.3g J (%.2fx)\n",
+              shipped.mean_positive, reference.mean_positive, ratio);
+  EXPECT_GT(reference.mean_positive, 1e-4);  // a stretched cloth, not one at rest
+  EXPECT_LE(ratio, 10.0);
+}
+
 // The t-shirt of the tiny dataset on its mannequin doing a procedural motion.
 SceneConfig body_scene(const std::string& motion, double speed, double amplitude, int frames) {
   SceneConfig s;
