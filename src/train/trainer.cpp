@@ -118,7 +118,11 @@ Trainer::Trainer(TrainConfig config, std::string config_yaml, TrainingData data,
   const auto& scales = config_.data.scales;
   if (scales.empty()) throw Error("data.scales: expected at least one factor ([1] = as generated)");
   for (double c : scales)
-    if (!(c > 0 && c <= 10)) throw Error("data.scales: " + std::to_string(c) + " is not a factor in (0, 10]");
+    if (!(c > 0 && c <= 10)) {
+      std::ostringstream why;
+      why << "data.scales: " << c << " is not a factor in (0, 10]";
+      throw Error(why.str());
+    }
   double lbar = 0;
   for (int gi = 0; gi < int(data_.garments.size()); ++gi) {
     const Garment& g = data_.garments[gi];
