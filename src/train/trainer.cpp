@@ -300,10 +300,8 @@ Trainer::SampleResult Trainer::train_sample(std::mt19937_64& rng, int slot, int 
   state.material = tr.material;
   state.pinned = tr.pinned;
   const torch::Tensor body_faces = index_matrix_to_tensor(body.mesh.F, device_);
-  auto pose = [&](int k) {
-    Eigen::MatrixXd v = pose_body(body, motion.frames[std::clamp(k, 0, motion.num_frames() - 1)]);
-    return Eigen::MatrixXd(v * c);
-  };
+  // Poses stay at the motion's size (lbs_garment needs them so); the state gets them times c.
+  auto pose = [&](int k) { return pose_body(body, motion.frames[std::clamp(k, 0, motion.num_frames() - 1)]); };
   Eigen::MatrixXd body_now = pose(tr.frame), body_next = pose(tr.frame + 1);
 
   TermList terms = build_terms(tr.effects, config_.physics, collision_weight);
@@ -312,8 +310,8 @@ Trainer::SampleResult Trainer::train_sample(std::mt19937_64& rng, int slot, int 
   double last_positive = 0;  // of the last step: does the chain stay plausible?
   for (int i = 0; i < r; ++i) {
     if (tr.effects.needs_body()) {
-      state.body.vertices = matrix_to_tensor(body_now, torch::kFloat32, device_);
-      state.body.next_vertices = matrix_to_tensor(body_next, torch::kFloat32, device_);
+      state.body.vertices = matrix_to_tensor(body_now * c, torch::kFloat32, device_);
+      state.body.next_vertices = matrix_to_tensor(body_next * c, torch::kFloat32, device_);
       state.body.faces = body_faces;
     } else {
       state.body = BodyFrame{};
@@ -321,7 +319,7 @@ Trainer::SampleResult Trainer::train_sample(std::mt19937_64& rng, int slot, int 
     if (tr.effects.pins) {
       // With a body the pins ride on the skinned garment; without one they stay put.
       state.pin_targets = tr.effects.needs_body()
-                              ? matrix_to_tensor(lbs_garment(body, garment, motion, tr.frame + i + 1, body_next / c,
+                              ? matrix_to_tensor(lbs_garment(body, garment, motion, tr.frame + i + 1, body_next,
                                                              config_.data.push_out_gap) * c,
                                                  torch::kFloat32, device_)
                               : tr.pin_anchor;
