@@ -2,8 +2,22 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 
 namespace pb4u {
+
+Check<std::vector<double>> scale_factors() {
+  return [](const std::vector<double>& scales) -> std::string {
+    if (scales.empty()) return "expected at least one factor ([1] = as generated)";
+    for (double c : scales)
+      if (!(c > 0 && c <= 10)) {
+        std::ostringstream why;  // the factor as given: -0.5, not -0.500000
+        why << c << " is not a factor in (0, 10]";
+        return why.str();
+      }
+    return "";
+  };
+}
 
 double learning_rate(const OptimConfig& optim, int64_t step, int64_t steps) {
   double progress = steps > 1 ? std::clamp(double(step) / double(steps - 1), 0.0, 1.0) : 1.0;

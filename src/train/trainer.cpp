@@ -115,14 +115,8 @@ Trainer::Trainer(TrainConfig config, std::string config_yaml, TrainingData data,
   // Calibrate K on the training resolution: the mean edge length over the training garments.
   // Every garment at every data.scales factor: topology_ and cloth_ are indexed by
   // variant(garment, scale); the calibration uses the garments as generated.
+  // (The config checks the factors: data.scales, scale_factors.)
   const auto& scales = config_.data.scales;
-  if (scales.empty()) throw Error("data.scales: expected at least one factor ([1] = as generated)");
-  for (double c : scales)
-    if (!(c > 0 && c <= 10)) {
-      std::ostringstream why;
-      why << "data.scales: " << c << " is not a factor in (0, 10]";
-      throw Error(why.str());
-    }
   double lbar = 0;
   for (int gi = 0; gi < int(data_.garments.size()); ++gi) {
     const Garment& g = data_.garments[gi];

@@ -60,8 +60,8 @@ TEST(Scales, KsRangeGrowsAsTheSceneShrinks) {
 
 TEST(Scales, ABadFactorNamesTheKey) {
   for (const std::string bad : {"[0]", "[-0.5]", "[]", "[1, 20]"}) {
-    TrainConfig c = scaled_config("scales_bad", bad);
     try {
+      TrainConfig c = scaled_config("scales_bad", bad);
       Trainer trainer(c, config_to_yaml(c), load_training_data(c.data), false);
       ADD_FAILURE() << bad << " accepted";
     } catch (const Error& e) {

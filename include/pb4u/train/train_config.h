@@ -42,6 +42,9 @@ struct RunConfig {
   }
 };
 
+// data.scales: at least one factor, each in (0, 10].
+Check<std::vector<double>> scale_factors();
+
 struct TrainDataConfig {
   std::string dataset = "data/generated/quick/quick.h5";  // written by `pb4u generate`
   std::vector<int> levels{1};          // training levels (1-based, as in the dataset)
@@ -64,7 +67,7 @@ struct TrainDataConfig {
     v("garments", garments);
     v("push_out_gap", push_out_gap, in_range(0, 0.05));
     v("speedups", speedups);
-    v("scales", scales);
+    v("scales", scales, scale_factors());
   }
 };
 
