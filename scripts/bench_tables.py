@@ -1,4 +1,4 @@
-#!/usr/bin/python3
+#!/usr/bin/env python3
 """Print docs/performance.md's three bench tables from a `pb4u bench` run's bench_details.csv.
 
   /usr/bin/python3 scripts/bench_tables.py runs/bench/blender/bench_details.csv

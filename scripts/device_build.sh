@@ -45,7 +45,7 @@ debs=("$bundle"/debs/*.deb)
 
 # Torch's CMake looks for nvcc on the PATH.
 if ! command -v nvcc >/dev/null && [ -x /usr/local/cuda/bin/nvcc ]; then export PATH=/usr/local/cuda/bin:$PATH; fi
-# The machine, as the first lines of the log (the image can change between sessions).
+# The machine, as the first lines of the log (the image can change from one run to the next).
 say "$(uname -m), $(. /etc/os-release && echo "$PRETTY_NAME"), $(c++ --version | head -n1), $(cmake --version | head -n1)"
 command -v nvidia-smi >/dev/null && say "GPU: $(nvidia-smi --query-gpu=name,compute_cap,driver_version --format=csv,noheader | head -n1)"
 command -v nvcc >/dev/null && say "nvcc: $(nvcc --version | tail -n1)"

@@ -8,14 +8,14 @@ set -euo pipefail
 PACKAGES=(
   cmake ninja-build g++ pkg-config ccache
   libtorch-dev libeigen3-dev libhdf5-dev libassimp-dev libcli11-dev libspdlog-dev
-  libyaml-cpp-dev libgtest-dev libnanoflann-dev
+  libyaml-cpp-dev libgtest-dev libnanoflann-dev nlohmann-json3-dev
   # Headers of Gloo, the transport of libtorch's c10d ProcessGroupGloo (data-parallel training).
   libgloo-dev
   # Isotropic remeshing of bodies and garments to a target triangle count (header-only; GMP/MPFR kernel).
   libcgal-dev libgmp-dev libmpfr-dev libboost-dev
   # libtorch links libblas.so.3; without this it resolves to the reference BLAS (19x slower).
   libopenblas0-openmp
-  # Plots (docs, bench, training curves) use Debian's matplotlib with /usr/bin/python3.
+  # Plots and previews: pb4u runs them under the first python3 on PATH that imports matplotlib.
   python3-matplotlib
 )
 for arg in "$@"; do

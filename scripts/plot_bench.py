@@ -1,4 +1,4 @@
-#!/usr/bin/python3
+#!/usr/bin/env python3
 """Figures of a `pb4u bench` run, from DIR/bench_details.csv:
   loss_vs_k.png           physics loss vs K of the fixed-K Pb4U runs, one line per level (Figure 5);
                           the K that Pb4U picks by itself is starred

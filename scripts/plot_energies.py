@@ -1,4 +1,4 @@
-#!/usr/bin/python3
+#!/usr/bin/env python3
 """Figure-3-style plot of a rollout: per-frame energy terms on a log scale vs time.
 Usage: plot_energies.py ENERGIES.csv OUT.png [--fps 30] [--title T] [ENERGIES2.csv:LABEL ...]
 Reads the energies.csv that `pb4u simulate` writes (frame,<term>,...). Extra CSVs given as

@@ -1,4 +1,4 @@
-#!/usr/bin/python3
+#!/usr/bin/env python3
 """Training curves from one or more runs' metrics.jsonl (SPEC 7): total loss and each
 physics term vs step, one panel per key, one line per run.
 Usage: plot_metrics.py OUT.png RUN_DIR_OR_JSONL[:LABEL] ... [--smooth 20]

@@ -1,4 +1,4 @@
-#!/usr/bin/python3
+#!/usr/bin/env python3
 """Contact sheet of a cloth rollout: a few frames from the front and the side.
 Usage: plot_preview.py OUT.png [--title T] FRAME:GARMENT.obj[:BODY.obj] ...
 The garment is shaded by its facing to the light (folds show), its vertices inside the body

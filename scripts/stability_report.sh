@@ -99,5 +99,5 @@ note="Configs: configs/eval/heldout.yaml (body) and heldout_pinned.yaml (pinned,
 note+=". Networks: ${models[*]}. pb4u --threads $threads on a $(nproc --all)-core machine ($(date -u +%Y-%m-%d))."
 table_args=()
 [ $networks_only = 1 ] && table_args=(--no-reference)
-/usr/bin/python3 scripts/stability_table.py "${runs[@]}" "${table_args[@]}" --note "$note" >"$out/report.md"
+python3 scripts/stability_table.py "${runs[@]}" "${table_args[@]}" --note "$note" >"$out/report.md"
 cat "$out/report.md"

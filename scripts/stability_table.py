@@ -1,4 +1,4 @@
-#!/usr/bin/python3
+#!/usr/bin/env python3
 """Markdown stability table from `pb4u evaluate --format json` runs (issue 14, SPEC 9).
 Usage: stability_table.py RUN.json[,MORE.json ...]:LABEL [...] [--reference NAME | --no-reference] [--note TEXT]
 Each run holds the networks and the reference solver on the same sequences (evaluate's

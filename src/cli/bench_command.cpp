@@ -7,6 +7,7 @@
 
 #include "pb4u/cli/commands.h"
 #include "pb4u/eval/bench.h"
+#include "pb4u/eval/bench_writers.h"
 #include "pb4u/util/atomic_file.h"
 #include "pb4u/util/plot_script.h"
 #include "pb4u/util/error.h"

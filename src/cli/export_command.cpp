@@ -6,7 +6,7 @@
 
 #include "pb4u/cli/commands.h"
 #include "pb4u/eval/model_average.h"
-#include "pb4u/eval/model_file.h"
+#include "pb4u/model/model_file.h"
 
 namespace pb4u {
 

@@ -5,7 +5,7 @@
 #include "pb4u/body/bvh.h"
 #include "pb4u/cli/commands.h"
 #include "pb4u/data/dataset.h"
-#include "pb4u/eval/model_file.h"
+#include "pb4u/model/model_file.h"
 #include "pb4u/io/mesh_io.h"
 #include "pb4u/io/mesh_summary.h"
 

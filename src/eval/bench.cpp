@@ -6,23 +6,18 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
-#include <sstream>
 
 #include <unistd.h>
 
 #include "pb4u/data/dataset.h"
 #include "pb4u/eval/evaluate.h"
-#include "pb4u/eval/rollout.h"
 #include "pb4u/eval/score.h"
-#include "pb4u/graph/build_graph.h"
-#include "pb4u/graph/world_edges.h"
-#include "pb4u/model/euler_step.h"
-#include "pb4u/physics/cloth_geometry.h"
+#include "pb4u/eval/stage_timing.h"
+#include "pb4u/rollout/rollout.h"
 #include "pb4u/physics/reference_solver.h"
 #include "pb4u/util/error.h"
-#include "pb4u/util/number_format.h"
+#include "pb4u/util/median.h"
 #include "pb4u/util/progress.h"
 #include "pb4u/util/remove_tree.h"
 #include "pb4u/util/runtime.h"
@@ -33,153 +28,6 @@ namespace fs = std::filesystem;
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-double median(std::vector<double> v) {
-  if (v.empty()) return NAN;
-  std::sort(v.begin(), v.end());
-  const size_t m = v.size() / 2;
-  return v.size() % 2 ? v[m] : 0.5 * (v[m - 1] + v[m]);
-}
-
-std::string csv_field(const std::string& s) {
-  if (s.find_first_of(",\"\n") == std::string::npos) return s;
-  std::string out = "\"";
-  for (char c : s) out += c == '"' ? std::string("\"\"") : std::string(1, c);
-  return out + "\"";
-}
-
-std::string number(double v) {
-  if (!std::isfinite(v)) return "nan";
-  char s[32];
-  std::snprintf(s, sizeof s, "%.6g", v);
-  return s;
-}
-
-// Dense float matmul of an m x k by k x n product, timed one product at a time.
-class DenseMatmul {
- public:
-  explicit DenseMatmul(const std::vector<int>& size) {
-    if (size.size() != 3 || size[0] < 1 || size[1] < 1 || size[2] < 1)
-      throw Error("matmul_size: expected three positive sizes [m, k, n]");
-    c10::InferenceMode guard;
-    a_ = torch::randn({size[0], size[1]});
-    b_ = torch::randn({size[1], size[2]});
-    c_ = torch::mm(a_, b_);  // warm-up: BLAS buffers, page faults
-    flops_ = 2.0 * double(size[0]) * double(size[1]) * double(size[2]);
-  }
-  // GFLOP/s of one product.
-  double gflops() {
-    c10::InferenceMode guard;
-    auto t0 = Clock::now();
-    torch::mm_out(c_, a_, b_);
-    return flops_ / (ms_since(t0) * 1e6);
-  }
-  double median_gflops(int repeats) {
-    std::vector<double> g;
-    for (int r = 0; r < repeats; ++r) g.push_back(gflops());
-    return median(g);
-  }
-
- private:
-  torch::Tensor a_, b_, c_;
-  double flops_ = 0;
-};
-
-// Matmul FLOPs of propagation + update + blocks as the split-first-layer code computes them
-// (model/mlp.cpp): node terms once per node, edge terms per edge, then the remaining layers.
-double message_passing_flops(const ModelConfig& c, int64_t nodes, int64_t mesh_edges,
-                             int64_t world_edges, int64_t K) {
-  const double H = c.latent, L = c.mlp_hidden_layers, n = double(nodes);
-  auto finish = [&](double rows) { return 2.0 * rows * H * H * L; };  // (L - 1) hidden + output
-  auto edge_mlp = [&](double edges, bool edge_term) {
-    return 2.0 * n * H * 2.0 * H + (edge_term ? 2.0 * edges * H * H : 0.0) + finish(edges);
-  };
-  double flops = 0;
-  if (c.is_pb4u()) {
-    flops += 2.0 * double(mesh_edges) * H * H;  // edge term, once for the K steps
-    flops += double(K) * edge_mlp(double(mesh_edges), false);
-    flops += 2.0 * n * H * H * 2.0 + finish(n);  // update f_u(v, h^K)
-  }
-  for (int b = 0; b < c.num_blocks; ++b) {
-    flops += edge_mlp(double(mesh_edges), true);
-    if (world_edges > 0) flops += edge_mlp(double(world_edges), true);
-    flops += 2.0 * n * H * H * 3.0 + finish(n);
-  }
-  return flops;
-}
-
-// One network frame split into its stages, median over `repeats` (after one warm-up).
-// The dense matmul is timed in each repeat too, so the FLOP-rate ratio compares the two under
-// the same machine load.
-StageRow time_stages(Pb4uNet& net, const GarmentTopology& topology, const RolloutInput& in,
-                     const PhysicsConfig& physics, int repeats, DenseMatmul& matmul) {
-  c10::InferenceMode guard;
-  const FrameState state = rollout_start_state(in);
-  const ClothGeometry cloth = make_cloth_geometry(in.garment_rest, torch::kFloat64, torch::kCPU, false,
-                                                  physics.degenerate_area);
-  const TermList terms = build_terms(in.effects, physics);
-  const GraphOptions options = net->config.graph_options();
-  const int64_t K = net->propagation_steps_for(topology.mean_edge_length);
-  std::vector<double> graph, world, encode, propagate, blocks, decode, euler, contact, physics_ms, dense;
-  StageRow row;
-  for (int r = 0; r <= repeats; ++r) {
-    double world_ms = 0;
-    if (in.effects.needs_body()) {
-      auto t0 = Clock::now();
-      garment_body_pairs(state.x.to(torch::kFloat32), state.body.vertices, options.world_edge_radius,
-                         options.nearest_body_vertex_only);
-      world_ms = ms_since(t0);
-    }
-    auto t0 = Clock::now();
-    GraphBatch g = build_graph(state, topology, options);
-    const double graph_ms = ms_since(t0);
-    StageTimes times;
-    auto a = net->forward(g, K, &times);
-    t0 = Clock::now();
-    auto x_next = euler_step(state, a).to(torch::kFloat64);
-    const double euler_ms = ms_since(t0);
-    t0 = Clock::now();
-    std::optional<BodyContact> body_contact = body_contact_for(state, physics);
-    const double contact_ms = ms_since(t0);
-    t0 = Clock::now();
-    energy_report(terms, x_next, state, cloth, body_contact ? &*body_contact : nullptr, in.metric_material);
-    const double physics_terms_ms = ms_since(t0);
-    if (r == 0) {  // warm-up
-      row.mesh_edges = g.mesh_senders.size(0);
-      row.world_edges = g.num_world_edges();
-      row.message_passing_gflops =
-          message_passing_flops(net->config, g.num_nodes(), row.mesh_edges, row.world_edges, K);
-      continue;
-    }
-    world.push_back(world_ms);
-    // build_graph runs the same world-edge query inside; the rest is feature assembly.
-    graph.push_back(std::max(0.0, graph_ms - world_ms));
-    encode.push_back(times.encode);
-    propagate.push_back(times.propagate);
-    blocks.push_back(times.blocks);
-    decode.push_back(times.decode);
-    euler.push_back(euler_ms);
-    contact.push_back(contact_ms);
-    physics_ms.push_back(physics_terms_ms);
-    dense.push_back(matmul.gflops());
-  }
-  row.vertices = topology.num_vertices;
-  row.with_body = in.effects.needs_body();
-  row.K = K;
-  row.graph_build = median(graph);
-  row.world_edge_query = median(world);
-  row.encode = median(encode);
-  row.propagate = median(propagate);
-  row.blocks = median(blocks);
-  row.decode = median(decode);
-  row.euler = median(euler);
-  row.contact_query = median(contact);
-  row.physics_terms = median(physics_ms);
-  // Propagation + update + blocks: the message passing whose FLOP rate is compared to BLAS.
-  row.message_passing_gflops /= (row.propagate + row.blocks) * 1e6;
-  row.matmul_gflops = median(dense);
-  return row;
-}
 
 // A method run at one level.
 struct Run {
@@ -283,6 +131,7 @@ const MotionRecord& find_motion(const Dataset& data, const BenchConfig& config) 
   throw Error(config.dataset + ": " +
               (config.motion.empty() ? std::string("no test-split motion") : "no motion named '" + config.motion + "'"));
 }
+
 
 }  // namespace
 
@@ -412,187 +261,6 @@ BenchResult run_bench(const BenchConfig& config, const std::function<void(const 
     if (on_level) on_level(result);
   }
   return result;
-}
-
-std::string format_bench_csv(const BenchResult& result) {
-  std::ostringstream out;
-  out << "level,triangles,vertices,method,K,threads,latency_ms_median,latency_ms_min,physics_loss\n";
-  for (const auto& r : result.rows)
-    out << r.level << ',' << r.triangles << ',' << r.vertices << ',' << csv_field(r.method) << ',' << r.K << ','
-        << r.threads << ',' << number(r.latency_ms_median) << ',' << number(r.latency_ms_min) << ','
-        << number(r.physics_loss) << '\n';
-  return out.str();
-}
-
-std::string format_bench_details_csv(const BenchResult& result) {
-  static const char* kTerms[] = {"stretch", "bending", "collision", "inertia", "gravity", "friction"};
-  std::ostringstream out;
-  out << "level,triangles,vertices,method,family,K,iterations,threads,latency_ms_median,latency_ms_min,"
-         "physics_loss,positive_loss";
-  for (const char* t : kTerms) out << ',' << t;
-  out << ",frames,diverged,diverged_at_frame,penetrating_fraction,max_penetrating_fraction,max_penetration_mm\n";
-  for (const auto& r : result.rows) {
-    out << r.level << ',' << r.triangles << ',' << r.vertices << ',' << csv_field(r.method) << ',' << r.family
-        << ',' << r.K << ',' << r.iterations << ',' << r.threads << ',' << number(r.latency_ms_median) << ','
-        << number(r.latency_ms_min) << ',' << number(r.physics_loss) << ',' << number(r.positive_loss);
-    for (const char* t : kTerms) {
-      double v = NAN;
-      for (const auto& [name, value] : r.terms)
-        if (name == t) v = value;
-      out << ',' << (std::isnan(v) ? std::string() : number(v));
-    }
-    out << ',' << r.frames << ',' << (r.diverged ? "true" : "false") << ',' << r.diverged_at_frame;
-    for (double PenetrationSummary::*field : {&PenetrationSummary::penetrating_fraction,
-                                             &PenetrationSummary::max_penetrating_fraction,
-                                             &PenetrationSummary::max_penetration_mm})
-      out << ',' << (r.penetration ? number((*r.penetration).*field) : std::string());
-    out << '\n';
-  }
-  return out.str();
-}
-
-std::string format_stages_csv(const BenchResult& result) {
-  std::ostringstream out;
-  out << "level,vertices,mesh_edges,world_edges,method,body,K,graph_build_ms,world_edge_query_ms,encode_ms,"
-         "propagate_ms,blocks_ms,decode_ms,euler_ms,contact_query_ms,physics_terms_ms,message_passing_gflops,"
-         "matmul_gflops\n";
-  for (const auto& s : result.stages)
-    out << s.level << ',' << s.vertices << ',' << s.mesh_edges << ',' << s.world_edges << ','
-        << csv_field(s.method) << ',' << (s.with_body ? "true" : "false") << ',' << s.K << ','
-        << number(s.graph_build) << ',' << number(s.world_edge_query) << ',' << number(s.encode) << ','
-        << number(s.propagate) << ',' << number(s.blocks) << ',' << number(s.decode) << ','
-        << number(s.euler) << ',' << number(s.contact_query) << ',' << number(s.physics_terms) << ','
-        << number(s.message_passing_gflops) << ',' << number(s.matmul_gflops) << '\n';
-  return out.str();
-}
-
-const BenchRow* cheapest_at_equal_loss(const std::vector<BenchRow>& rows, const BenchRow& net,
-                                       const std::string& family) {
-  const BenchRow* best = nullptr;
-  for (const auto& r : rows)
-    if (r.level == net.level && r.family == family && !r.diverged && std::isfinite(r.physics_loss) &&
-        r.physics_loss <= net.physics_loss && (!best || r.latency_ms_median < best->latency_ms_median))
-      best = &r;
-  return best;
-}
-
-double latency_exponent(const std::vector<BenchRow>& rows, const std::string& method) {
-  std::vector<double> x, y;
-  for (const auto& r : rows)
-    if (r.method == method && r.vertices > 0 && r.latency_ms_median > 0 && std::isfinite(r.latency_ms_median)) {
-      x.push_back(std::log(double(r.vertices)));
-      y.push_back(std::log(r.latency_ms_median));
-    }
-  if (x.size() < 2) return NAN;
-  double mx = 0, my = 0;
-  for (size_t i = 0; i < x.size(); ++i) mx += x[i], my += y[i];
-  mx /= double(x.size());
-  my /= double(y.size());
-  double sxy = 0, sxx = 0;
-  for (size_t i = 0; i < x.size(); ++i) sxy += (x[i] - mx) * (y[i] - my), sxx += (x[i] - mx) * (x[i] - mx);
-  return sxx > 0 ? sxy / sxx : NAN;
-}
-
-std::string format_bench_table(const BenchResult& result) {
-  std::ostringstream out;
-  out << "Accuracy vs time (" << result.device << ", " << result.threads << " torch threads, BLAS "
-      << result.blas_core << "); latency per frame after warm-up, loss = mean physics energy per frame (J)\n";
-  std::vector<int> levels;
-  for (const auto& r : result.rows)
-    if (std::find(levels.begin(), levels.end(), r.level) == levels.end()) levels.push_back(r.level);
-  std::vector<std::string> methods;
-  for (const auto& r : result.rows)
-    if (std::find(methods.begin(), methods.end(), r.method) == methods.end()) methods.push_back(r.method);
-  size_t w = 8;
-  for (const auto& m : methods) w = std::max(w, m.size());
-  char line[256];
-  for (int level : levels) {
-    const BenchRow* first = nullptr;
-    for (const auto& r : result.rows)
-      if (r.level == level) {
-        first = first ? first : &r;
-      }
-    out << "\nLv." << level << "  (" << first->triangles << " triangles, " << first->vertices << " vertices)\n";
-    std::snprintf(line, sizeof line, "  %-*s %4s %12s %12s %12s %12s\n", int(w), "method", "K", "median ms",
-                  "min ms", "total J", "positive J");
-    out << line;
-    for (const auto& r : result.rows) {
-      if (r.level != level) continue;
-      std::string note = r.diverged ? "  diverged at frame " + std::to_string(r.diverged_at_frame) : "";
-      std::snprintf(line, sizeof line, "  %-*s %4lld %12s %12s %12s %12s%s\n", int(w), r.method.c_str(),
-                    static_cast<long long>(r.K), fixed(r.latency_ms_median, 1).c_str(),
-                    fixed(r.latency_ms_min, 1).c_str(), scientific(r.physics_loss, 3).c_str(),
-                    scientific(r.positive_loss, 3).c_str(),
-                    note.c_str());
-      out << line;
-    }
-  }
-
-  if (!result.stages.empty()) {
-    out << "\nPer-stage time of one frame (ms, median); MP = message passing (propagation + update + "
-           "blocks) FLOP rate\n";
-    std::snprintf(line, sizeof line, "  %-3s %-*s %3s %6s %6s %6s %6s %6s %6s %6s %6s %7s %7s %8s\n", "Lv.",
-                  int(w), "method", "K", "graph", "world", "enc", "prop", "blocks", "dec", "euler", "total",
-                  "contact", "terms", "MP GF/s");
-    out << line;
-    for (const auto& s : result.stages) {
-      const double total = s.graph_build + s.world_edge_query + s.encode + s.propagate + s.blocks + s.decode + s.euler;
-      std::snprintf(line, sizeof line,
-                    "  %-3d %-*s %3lld %6.1f %6.1f %6.1f %6.1f %6.1f %6.1f %6.1f %6.1f %7.1f %7.1f %8.1f\n",
-                    s.level, int(w), s.method.c_str(), static_cast<long long>(s.K), s.graph_build,
-                    s.world_edge_query, s.encode, s.propagate, s.blocks, s.decode, s.euler, total,
-                    s.contact_query, s.physics_terms, s.message_passing_gflops);
-      out << line;
-    }
-    out << "  dense matmul (same threads, at start): " << fixed(result.matmul_gflops, 1) << " GFLOP/s\n";
-    for (const auto& s : result.stages)
-      if (s.with_body)
-        out << "  Lv." << s.level << " " << s.method << ": message passing " << fixed(s.message_passing_gflops, 1)
-            << " GFLOP/s = " << fixed(100.0 * s.message_passing_gflops / s.matmul_gflops, 0)
-            << "% of the dense matmul's " << fixed(s.matmul_gflops, 1) << " GFLOP/s timed alongside\n";
-  }
-
-  // Speed-up over the reference solver (and Blender) at equal loss: the cheapest run that ran to
-  // the end with a loss not above the network's.
-  auto equal_loss = [&](const std::string& family, const std::string& who, const std::string& budget) {
-    const bool any = std::any_of(result.rows.begin(), result.rows.end(), [&](const BenchRow& r) { return r.family == family; });
-    if (!any) return;
-    out << "\nNetworks vs " << who << " at equal loss\n";
-    for (int level : levels) {
-      for (const auto& net : result.rows) {
-        if (net.level != level || net.family != "network" || !std::isfinite(net.physics_loss)) continue;
-        const BenchRow* best = cheapest_at_equal_loss(result.rows, net, family);
-        const BenchRow* most = nullptr;
-        for (const auto& ref : result.rows)
-          if (ref.level == level && ref.family == family && (!most || ref.iterations > most->iterations)) most = &ref;
-        if (!most) continue;
-        out << "  Lv." << level << " " << net.method << ": ";
-        if (best)
-          out << best->method << " reaches its loss in " << fixed(best->latency_ms_median, 1) << " ms: "
-              << fixed(best->latency_ms_median / net.latency_ms_median, 1) << "x the network's "
-              << fixed(net.latency_ms_median, 1) << " ms\n";
-        else
-          out << "no " << budget << " reaches its loss (up to " << most->method << ", "
-              << fixed(most->latency_ms_median, 1) << " ms = "
-              << fixed(most->latency_ms_median / net.latency_ms_median, 1) << "x the network's "
-              << fixed(net.latency_ms_median, 1) << " ms, loss " << fixed(most->physics_loss, 3) << " J)\n";
-      }
-    }
-  };
-  equal_loss("reference", "the reference solver", "reference budget");
-  equal_loss("blender", "Blender's cloth", "Blender quality");
-  if (levels.size() >= 2) {
-    out << "\nLatency growth exponent in vertex count (least squares over levels, log-log)\n";
-    for (const auto& m : methods) {
-      const bool one_row_per_level =
-          std::count_if(result.rows.begin(), result.rows.end(), [&](const BenchRow& r) { return r.method == m; }) ==
-          std::ptrdiff_t(levels.size());
-      if (!one_row_per_level) continue;  // fixed-K sweeps: several K per level
-      const double e = latency_exponent(result.rows, m);
-      if (std::isfinite(e)) out << "  " << m << ": " << fixed(e, 2) << "\n";
-    }
-  }
-  return out.str();
 }
 
 }  // namespace pb4u

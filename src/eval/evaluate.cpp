@@ -1,21 +1,22 @@
 #include "pb4u/eval/evaluate.h"
 
+#include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <map>
 #include <sstream>
 
 #include "pb4u/data/dataset.h"
-#include "pb4u/eval/rollout.h"
+#include "pb4u/rollout/rollout.h"
 #include "pb4u/scene/pins.h"
-#include "pb4u/sim/preview.h"
+#include "pb4u/io/preview.h"
 #include "pb4u/util/error.h"
-#include "pb4u/util/json_text.h"
 #include "pb4u/util/number_format.h"
 #include "pb4u/util/progress.h"
 
@@ -352,6 +353,13 @@ std::string format_table(const std::vector<LevelResult>& levels) {
   return out.str();
 }
 
+namespace {
+
+// A CSV value: 9 significant digits ("%.9g"); non-finite values are "null", as in the JSON.
+std::string eval_csv_number(double v) { return significant(v, 9, "null"); }
+
+}  // namespace
+
 std::string format_csv(const std::vector<LevelResult>& levels) {
   std::ostringstream out;
   out << "level,triangles,vertices,method,K,term,value,diverged,diverged_at_frame\n";
@@ -362,7 +370,7 @@ std::string format_csv(const std::vector<LevelResult>& levels) {
         std::string name = m.name;
         if (name.find(',') != std::string::npos) name = "\"" + name + "\"";
         out << lr.level << "," << lr.triangles << "," << lr.vertices << "," << name << "," << m.K << "," << row
-            << "," << (v ? json_number(*v) : "") << "," << (m.diverged ? "true" : "false") << ","
+            << "," << (v ? eval_csv_number(*v) : "") << "," << (m.diverged ? "true" : "false") << ","
             << (m.diverged ? std::to_string(m.diverged_at_frame) : "") << "\n";
       }
     }
@@ -371,58 +379,72 @@ std::string format_csv(const std::vector<LevelResult>& levels) {
 
 namespace {
 
-// "key": value, ... for each row (null when absent), each followed by ", ".
-std::string json_rows(const std::vector<std::string>& rows, const std::optional<EnergyReport>& mean,
-                      const std::optional<PenetrationSummary>& penetration) {
-  std::string out;
+using EvalJson = nlohmann::ordered_json;  // keys in the order written
+
+// A figure as JSON: rounded to 9 significant digits (what "%.9g" printed), so the shortest
+// round-trip form nlohmann writes has the same digits; non-finite values are null.
+EvalJson eval_json_figure(double v) {
+  if (!std::isfinite(v)) return nullptr;
+  char s[32];
+  std::snprintf(s, sizeof s, "%.9g", v);
+  return std::strtod(s, nullptr);
+}
+
+// "<row>": value for each row (null when absent); a sequence without a measured frame has
+// no penetration keys.
+void eval_add_rows(EvalJson& out, const std::vector<std::string>& rows,
+                   const std::optional<EnergyReport>& mean,
+                   const std::optional<PenetrationSummary>& penetration) {
   for (const auto& row : rows) {
-    if (penetration_key(row) && !penetration) continue;  // a sequence without a measured frame
+    if (penetration_key(row) && !penetration) continue;
     auto v = row_value(mean, penetration, row);
-    out += json_string(row) + ": " + (v ? json_number(*v) : "null") + ", ";
+    out[row] = v ? eval_json_figure(*v) : EvalJson(nullptr);
   }
-  return out;
 }
 
 // The divergence keys (SPEC 7), and the reason when it diverged.
-std::string json_divergence(bool diverged, int at_frame, const std::string& reason) {
-  if (!diverged) return "\"diverged\": false, \"diverged_at_frame\": null";
-  return "\"diverged\": true, \"diverged_at_frame\": " + std::to_string(at_frame) +
-         ", \"diverged_reason\": " + json_string(reason);
+void eval_add_divergence(EvalJson& out, bool diverged, int at_frame, const std::string& reason) {
+  out["diverged"] = diverged;
+  out["diverged_at_frame"] = diverged ? EvalJson(at_frame) : EvalJson(nullptr);
+  if (diverged) out["diverged_reason"] = reason;
 }
 
-std::string json_sequence(const SequenceResult& q, const std::vector<std::string>& rows) {
-  std::ostringstream out;
-  out << "{\"body\": " << json_string(q.body) << ", \"garment\": " << json_string(q.garment)
-      << ", \"motion\": " << json_string(q.motion) << ", \"frames\": " << q.frames << ", "
-      << json_rows(rows, q.mean, q.penetration) << "\"positive_energy\": " << json_number(q.positive_energy)
-      << ", \"max_positive_energy\": " << json_number(q.max_positive_energy) << ", "
-      << json_divergence(q.diverged, q.diverged_at_frame, q.diverged_reason) << "}";
-  return out.str();
+EvalJson eval_json_sequence(const SequenceResult& q, const std::vector<std::string>& rows) {
+  EvalJson out = EvalJson::object();
+  out["body"] = q.body;
+  out["garment"] = q.garment;
+  out["motion"] = q.motion;
+  out["frames"] = q.frames;
+  eval_add_rows(out, rows, q.mean, q.penetration);
+  out["positive_energy"] = eval_json_figure(q.positive_energy);
+  out["max_positive_energy"] = eval_json_figure(q.max_positive_energy);
+  eval_add_divergence(out, q.diverged, q.diverged_at_frame, q.diverged_reason);
+  return out;
 }
 
 }  // namespace
 
 std::string format_json(const std::vector<LevelResult>& levels) {
-  std::ostringstream out;
-  out << "{\"levels\": [";
-  for (size_t l = 0; l < levels.size(); ++l) {
-    const auto& lr = levels[l];
-    out << (l ? ", " : "") << "{\"level\": " << lr.level << ", \"triangles\": " << lr.triangles
-        << ", \"vertices\": " << lr.vertices << ", \"K\": " << lr.K << ", \"methods\": {";
+  EvalJson out = {{"levels", EvalJson::array()}};
+  for (const auto& lr : levels) {
+    EvalJson level = {
+        {"level", lr.level}, {"triangles", lr.triangles}, {"vertices", lr.vertices}, {"K", lr.K}};
+    EvalJson& methods = level["methods"] = EvalJson::object();
     const std::vector<std::string> rows = level_rows(lr);
-    for (size_t i = 0; i < lr.methods.size(); ++i) {
-      const auto& m = lr.methods[i];
-      out << (i ? ", " : "") << json_string(m.name) << ": {" << json_rows(rows, m.mean, m.penetration)
-          << "\"sequences\": [";
-      for (size_t k = 0; k < m.per_sequence.size(); ++k)
-        out << (k ? ", " : "") << json_sequence(m.per_sequence[k], rows);
-      out << "], \"K\": " << m.K << ", \"frames\": " << m.frames << ", "
-          << json_divergence(m.diverged, m.diverged_at_frame, m.diverged_reason) << "}";
+    for (const auto& m : lr.methods) {
+      EvalJson method = EvalJson::object();
+      eval_add_rows(method, rows, m.mean, m.penetration);
+      EvalJson& sequences = method["sequences"] = EvalJson::array();
+      for (const auto& q : m.per_sequence) sequences.push_back(eval_json_sequence(q, rows));
+      method["K"] = m.K;
+      method["frames"] = m.frames;
+      eval_add_divergence(method, m.diverged, m.diverged_at_frame, m.diverged_reason);
+      methods[m.name] = std::move(method);
     }
-    out << "}}";
+    out["levels"].push_back(std::move(level));
   }
-  out << "]}\n";
-  return out.str();
+  // One line; bytes that are not UTF-8 (a file name) become U+FFFD rather than an exception.
+  return out.dump(-1, ' ', false, EvalJson::error_handler_t::replace) + "\n";
 }
 
 }  // namespace pb4u

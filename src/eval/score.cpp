@@ -1,16 +1,18 @@
 #include "pb4u/eval/score.h"
 
+#include <nlohmann/json.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <limits>
 #include <memory>
 #include <sstream>
 
-#include "pb4u/eval/rollout.h"
+#include "pb4u/rollout/rollout.h"
 #include "pb4u/util/eigen_tensor.h"
 #include "pb4u/util/error.h"
-#include "pb4u/util/json_text.h"
 
 namespace pb4u {
 
@@ -122,27 +124,34 @@ std::string score_csv(const ScoreResult& r) {
 }
 
 std::string score_json(const ScoreResult& r) {
-  std::ostringstream out;
-  out << "{\"frames\": " << r.frames << ", \"scored_frames\": " << r.reports.size() << ", \"mean\": {";
-  for (const auto& t : r.mean.terms) out << json_string(t.first) << ": " << json_number(t.second) << ", ";
-  out << "\"total\": " << json_number(r.reports.empty() ? NAN : r.mean.total) << "}";
-  out << ", \"positive_mean\": " << json_number(r.positive_mean) << ", \"positive_max\": " << json_number(r.positive_max);
+  using Json = nlohmann::ordered_json;  // keys in the order written
+  // A figure rounded to the 9 significant digits of the CSV (g9), so nlohmann's shortest
+  // round-trip form has the same digits; non-finite values are null.
+  auto figure = [](double v) {
+    return std::isfinite(v) ? Json(std::strtod(g9(v).c_str(), nullptr)) : Json(nullptr);
+  };
+  Json out = {{"frames", r.frames}, {"scored_frames", r.reports.size()}};
+  Json& mean = out["mean"] = Json::object();
+  for (const auto& t : r.mean.terms) mean[t.first] = figure(t.second);
+  mean["total"] = figure(r.reports.empty() ? NAN : r.mean.total);
+  out["positive_mean"] = figure(r.positive_mean);
+  out["positive_max"] = figure(r.positive_max);
   if (!r.penetration.empty()) {
-    out << ", \"penetrating_fraction\": " << json_number(r.penetration_summary.penetrating_fraction)
-        << ", \"max_penetrating_fraction\": " << json_number(r.penetration_summary.max_penetrating_fraction)
-        << ", \"max_penetration_mm\": " << json_number(r.penetration_summary.max_penetration_mm);
+    out["penetrating_fraction"] = figure(r.penetration_summary.penetrating_fraction);
+    out["max_penetrating_fraction"] = figure(r.penetration_summary.max_penetrating_fraction);
+    out["max_penetration_mm"] = figure(r.penetration_summary.max_penetration_mm);
   }
-  out << ", \"nonfinite_at_frame\": " << (r.nonfinite_at_frame < 0 ? "null" : std::to_string(r.nonfinite_at_frame));
-  out << ", \"per_frame\": [";
+  out["nonfinite_at_frame"] = r.nonfinite_at_frame < 0 ? Json(nullptr) : Json(r.nonfinite_at_frame);
+  Json& per_frame = out["per_frame"] = Json::array();
   const auto names = columns(r);
   for (size_t i = 0; i < r.reports.size(); ++i) {
-    out << (i ? ", " : "") << "{\"frame\": " << i + 1;
+    Json frame = {{"frame", i + 1}};
     const auto v = row(r, i);
-    for (size_t k = 0; k < names.size(); ++k) out << ", " << json_string(names[k]) << ": " << json_number(v[k]);
-    out << "}";
+    for (size_t k = 0; k < names.size(); ++k) frame[names[k]] = figure(v[k]);
+    per_frame.push_back(std::move(frame));
   }
-  out << "]}\n";
-  return out.str();
+  // One line; bytes that are not UTF-8 become U+FFFD rather than an exception.
+  return out.dump(-1, ' ', false, Json::error_handler_t::replace) + "\n";
 }
 
 std::string score_table(const ScoreResult& r, const std::string& title) {

@@ -1,7 +1,5 @@
 #include "pb4u/io/frame_sequence.h"
 
-#include <H5Cpp.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -12,8 +10,9 @@
 #include <map>
 #include <sstream>
 
+#include "pb4u/io/hdf5_file.h"
 #include "pb4u/io/mesh_io.h"
-#include "pb4u/sim/point_cache.h"
+#include "pb4u/io/point_cache.h"
 #include "pb4u/util/error.h"
 
 namespace pb4u {
@@ -268,50 +267,35 @@ std::vector<std::string> numbered_files(const std::string& pattern) {
   return files;
 }
 
-Eigen::MatrixXd read_h5_matrix(const H5::Group& g, const std::string& name, const std::string& path) {
-  H5::DataSet d = g.openDataSet(name);
-  H5::DataSpace space = d.getSpace();
-  hsize_t dims[3] = {0, 0, 0};
-  const int rank = space.getSimpleExtentNdims();
-  if (rank != 2) fail_file(path, name + ": expected a 2-D dataset");
-  space.getSimpleExtentDims(dims);
-  std::vector<double> buf(dims[0] * dims[1]);
-  d.read(buf.data(), H5::PredType::NATIVE_DOUBLE);
-  Eigen::MatrixXd m(dims[0], dims[1]);
-  for (hsize_t i = 0; i < dims[0]; ++i)
-    for (hsize_t k = 0; k < dims[1]; ++k) m(i, k) = buf[i * dims[1] + k];
+// A 2-D dataset of a rollout group as a matrix, its values converted to T.
+template <class T>
+Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic> read_rollout_matrix(const Hdf5Group& g,
+                                                                     const std::string& name) {
+  const std::vector<size_t> dims = g.shape(name);
+  if (dims.size() != 2) fail_file(g.file(), g.child_path(name) + ": expected a 2-D dataset");
+  Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> m(dims[0], dims[1]);
+  g.read(name, m.data());
   return m;
 }
 
 FrameSequence read_rollout_h5(const std::string& path, const std::string& group) {
   FrameSequence seq;
-  H5::Exception::dontPrint();
-  try {
-    if (!H5::H5File::isHdf5(path)) fail_file(path, "not an HDF5 file");
-    H5::H5File file(path, H5F_ACC_RDONLY);
-    if (!file.nameExists(group)) fail_file(path, "has no '" + group + "' group (not a pb4u rollout?)");
-    H5::Group g = file.openGroup(group);
-    if (!g.nameExists("positions")) fail_file(path, group + "/positions: missing");
-    H5::DataSet d = g.openDataSet("positions");
-    H5::DataSpace space = d.getSpace();
-    if (space.getSimpleExtentNdims() != 3) fail_file(path, group + "/positions: expected T x n x 3");
-    hsize_t dims[3];
-    space.getSimpleExtentDims(dims);
-    if (dims[2] != 3) fail_file(path, group + "/positions: expected T x n x 3");
-    std::vector<double> buf(dims[0] * dims[1] * 3);
-    d.read(buf.data(), H5::PredType::NATIVE_DOUBLE);
-    for (hsize_t t = 0; t < dims[0]; ++t) {
-      Eigen::MatrixXd x(dims[1], 3);
-      for (hsize_t v = 0; v < dims[1]; ++v)
-        for (int k = 0; k < 3; ++k) x(v, k) = buf[(t * dims[1] + v) * 3 + k];
-      seq.frames.push_back(std::move(x));
-    }
-    if (g.nameExists("faces")) seq.faces = read_h5_matrix(g, "faces", path).cast<int>();
-    if (g.nameExists("rest")) seq.rest = read_h5_matrix(g, "rest", path);
-    if (g.nameExists("previous")) seq.previous = read_h5_matrix(g, "previous", path);
-  } catch (const H5::Exception& e) {
-    fail_file(path, "cannot read HDF5: " + e.getDetailMsg());
+  const Hdf5Group file = open_hdf5(path);
+  if (!file.has(group)) fail_file(path, "has no '" + group + "' group (not a pb4u rollout?)");
+  const Hdf5Group g = file.group(group);
+  const std::vector<size_t> dims = g.shape("positions");
+  if (dims.size() != 3 || dims[2] != 3) fail_file(path, group + "/positions: expected T x n x 3");
+  std::vector<double> buf(dims[0] * dims[1] * 3);
+  g.read("positions", buf.data());
+  for (size_t t = 0; t < dims[0]; ++t) {
+    Eigen::MatrixXd x(dims[1], 3);
+    for (size_t v = 0; v < dims[1]; ++v)
+      for (int k = 0; k < 3; ++k) x(v, k) = buf[(t * dims[1] + v) * 3 + k];
+    seq.frames.push_back(std::move(x));
   }
+  if (g.has("faces")) seq.faces = read_rollout_matrix<int32_t>(g, "faces");
+  if (g.has("rest")) seq.rest = read_rollout_matrix<double>(g, "rest");
+  if (g.has("previous")) seq.previous = read_rollout_matrix<double>(g, "previous");
   return seq;
 }
 

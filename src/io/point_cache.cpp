@@ -1,4 +1,4 @@
-#include "pb4u/sim/point_cache.h"
+#include "pb4u/io/point_cache.h"
 
 #include <cstdint>
 #include <cstring>

@@ -1,4 +1,4 @@
-#include "pb4u/sim/preview.h"
+#include "pb4u/io/preview.h"
 
 #include <spdlog/spdlog.h>
 

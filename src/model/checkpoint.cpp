@@ -1,4 +1,4 @@
-#include "pb4u/train/checkpoint.h"
+#include "pb4u/model/checkpoint.h"
 
 #include <ATen/CPUGeneratorImpl.h>
 

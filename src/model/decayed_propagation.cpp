@@ -9,6 +9,12 @@ DecayedPropagationImpl::DecayedPropagationImpl(int64_t latent, int hidden_layers
   norm = register_module("norm", torch::nn::LayerNorm(torch::nn::LayerNormOptions({latent})));
 }
 
+double DecayedPropagationImpl::matmul_flops(double n, double E, int64_t K) const {
+  if (K <= 0) return 0;
+  // The edge term once (as forward computes it), then K node-term + remaining-layer passes.
+  return message->first_layer_flops(2, E) + double(K) * edge_mlp_flops(*message, n, E, false);
+}
+
 torch::Tensor DecayedPropagationImpl::forward(const torch::Tensor& v, const torch::Tensor& e,
                                               const torch::Tensor& senders,
                                               const torch::Tensor& receivers, int64_t K) {

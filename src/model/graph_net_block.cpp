@@ -12,6 +12,13 @@ GraphNetBlockImpl::GraphNetBlockImpl(int64_t latent, int hidden_layers) {
   node = mlp("node");
 }
 
+double GraphNetBlockImpl::matmul_flops(double n, double Em, double Ew) const {
+  double flops = edge_mlp_flops(*mesh_edge, n, Em, true);
+  if (Ew > 0) flops += edge_mlp_flops(*world_edge, n, Ew, true);
+  for (size_t part = 0; part < node->first_weights.size(); ++part) flops += node->first_layer_flops(part, n);
+  return flops + node->finish_flops(n);
+}
+
 LatentGraph GraphNetBlockImpl::forward(const LatentGraph& g, const torch::Tensor& ms,
                                        const torch::Tensor& mr, const torch::Tensor& ws,
                                        const torch::Tensor& wr) {

@@ -38,6 +38,23 @@ torch::Tensor MLPImpl::finish(torch::Tensor first_layer_sum) {
   return norm ? norm(y) : y;
 }
 
+double MLPImpl::first_layer_flops(size_t part, double rows) const {
+  return 2.0 * rows * double(first_weights[part].size(0)) * double(first_weights[part].size(1));
+}
+
+double MLPImpl::finish_flops(double rows) const {
+  double flops = 0;
+  for (const auto& m : rest->children())
+    if (const auto* linear = m->as<torch::nn::LinearImpl>())
+      flops += 2.0 * rows * double(linear->weight.size(0)) * double(linear->weight.size(1));
+  return flops;
+}
+
+double edge_mlp_flops(const MLPImpl& f, double nodes, double edges, bool with_edge_term) {
+  return f.first_layer_flops(0, nodes) + f.first_layer_flops(1, nodes) +
+         (with_edge_term ? f.first_layer_flops(2, edges) : 0.0) + f.finish_flops(edges);
+}
+
 torch::Tensor MLPImpl::forward(const std::vector<torch::Tensor>& inputs) {
   TORCH_CHECK(inputs.size() == input_sizes.size(), "MLP: expected ", input_sizes.size(),
               " inputs, got ", inputs.size());

@@ -1,25 +1,18 @@
-#include "pb4u/eval/model_file.h"
+#include "pb4u/model/model_file.h"
 
 #include <yaml-cpp/yaml.h>
 
-#include <cstring>
 #include <fstream>
 #include <map>
 #include <sstream>
 
+#include "pb4u/io/hdf5_file.h"
 #include "pb4u/io/module_hdf5.h"
-#include "pb4u/train/checkpoint.h"
+#include "pb4u/model/checkpoint.h"
 #include "pb4u/util/error.h"
 
 namespace pb4u {
 namespace {
-
-bool is_hdf5_file(const std::string& path) {
-  static const char kMagic[8] = {'\x89', 'H', 'D', 'F', '\r', '\n', '\x1a', '\n'};
-  char head[8] = {};
-  std::ifstream in(path, std::ios::binary);
-  return in.read(head, 8) && std::memcmp(head, kMagic, 8) == 0;
-}
 
 // The `model` section of a YAML document (`section_key` empty: the document is the section).
 ModelConfig parse_model_config(const std::string& yaml, const std::string& section_key,

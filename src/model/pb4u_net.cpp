@@ -111,6 +111,18 @@ void Pb4uNetImpl::set_split_first_layer(bool split) {
   for (auto& b : blocks) b->split_first_layer = split;
 }
 
+double Pb4uNetImpl::message_passing_flops(int64_t nodes, int64_t mesh_edges, int64_t world_edges,
+                                          int64_t K) const {
+  const double n = double(nodes), Em = double(mesh_edges), Ew = double(world_edges);
+  double flops = 0;
+  if (propagation) {
+    flops += propagation->matmul_flops(n, Em, K);
+    flops += update->first_layer_flops(0, n) + update->first_layer_flops(1, n) + update->finish_flops(n);
+  }
+  for (const auto& b : blocks) flops += b->matmul_flops(n, Em, Ew);
+  return flops;
+}
+
 void save_model(Pb4uNet& model, const std::string& path) {
   const std::string temp = temp_path_for(path);
   try {

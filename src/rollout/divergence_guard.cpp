@@ -1,4 +1,4 @@
-#include "pb4u/eval/divergence_guard.h"
+#include "pb4u/rollout/divergence_guard.h"
 
 #include <algorithm>
 #include <cstdio>

@@ -1,4 +1,4 @@
-#include "pb4u/eval/rollout.h"
+#include "pb4u/rollout/rollout.h"
 
 #include <algorithm>
 #include <chrono>

@@ -1,12 +1,11 @@
 #include "pb4u/sim/rollout_writer.h"
 
-#include <H5Cpp.h>
-
 #include <cstdio>
 #include <sstream>
 
+#include "pb4u/io/hdf5_file.h"
 #include "pb4u/io/mesh_io.h"
-#include "pb4u/sim/point_cache.h"
+#include "pb4u/io/point_cache.h"
 #include "pb4u/util/atomic_file.h"
 #include "pb4u/util/error.h"
 
@@ -66,32 +65,27 @@ void RolloutWriter::add_frame(const Eigen::MatrixXd& garment, const Eigen::Matri
 
 namespace {
 
-void write_frames_dataset(H5::Group& group, const std::vector<Eigen::MatrixXd>& frames,
+// group/positions (T x n x 3 float64) and group/faces (F x 3 int32).
+void write_frames_dataset(Hdf5Group& group, const std::vector<Eigen::MatrixXd>& frames,
                           const Eigen::MatrixXi& faces) {
-  const hsize_t T = frames.size(), n = T ? frames[0].rows() : 0;
+  const size_t T = frames.size(), n = T ? frames[0].rows() : 0;
   std::vector<double> pos(T * n * 3);
-  for (hsize_t t = 0; t < T; ++t)
-    for (hsize_t v = 0; v < n; ++v)
+  for (size_t t = 0; t < T; ++t)
+    for (size_t v = 0; v < n; ++v)
       for (int k = 0; k < 3; ++k) pos[(t * n + v) * 3 + k] = frames[t](v, k);
-  hsize_t dims[3] = {T, n, 3};
-  group.createDataSet("positions", H5::PredType::NATIVE_DOUBLE, H5::DataSpace(3, dims))
-      .write(pos.data(), H5::PredType::NATIVE_DOUBLE);
+  group.write("positions", {T, n, 3}, pos.data());
   std::vector<int32_t> f(static_cast<size_t>(faces.rows()) * 3);
   for (Eigen::Index i = 0; i < faces.rows(); ++i)
     for (int k = 0; k < 3; ++k) f[i * 3 + k] = faces(i, k);
-  hsize_t fdims[2] = {static_cast<hsize_t>(faces.rows()), 3};
-  group.createDataSet("faces", H5::PredType::NATIVE_INT32, H5::DataSpace(2, fdims))
-      .write(f.data(), H5::PredType::NATIVE_INT32);
+  group.write("faces", {static_cast<size_t>(faces.rows()), 3}, f.data());
 }
 
 // n x 3 float64 positions as group/name.
-void write_positions(H5::Group& group, const std::string& name, const Eigen::MatrixXd& x) {
+void write_positions(Hdf5Group& group, const std::string& name, const Eigen::MatrixXd& x) {
   std::vector<double> buf(static_cast<size_t>(x.rows()) * 3);
   for (Eigen::Index v = 0; v < x.rows(); ++v)
     for (int k = 0; k < 3; ++k) buf[v * 3 + k] = x(v, k);
-  hsize_t dims[2] = {static_cast<hsize_t>(x.rows()), 3};
-  group.createDataSet(name, H5::PredType::NATIVE_DOUBLE, H5::DataSpace(2, dims))
-      .write(buf.data(), H5::PredType::NATIVE_DOUBLE);
+  group.write(name, {static_cast<size_t>(x.rows()), 3}, buf.data());
 }
 
 }  // namespace
@@ -125,35 +119,23 @@ std::vector<std::string> RolloutWriter::finish() {
   }
   if (outputs_.hdf5) {
     const std::string path = dir_ + "/rollout.h5";
-    const std::string tmp = temp_path_for(path);
-    H5::Exception::dontPrint();
-    try {
-      H5::H5File file(tmp, H5F_ACC_TRUNC);
-      H5::Group g = file.createGroup("garment");
+    write_hdf5(path, [&](Hdf5Group& file) {
+      Hdf5Group g = file.create_group("garment");
       write_frames_dataset(g, garment_frames_, garment_faces_);
       if (rest_.rows()) write_positions(g, "rest", rest_);
       if (previous_.rows()) write_positions(g, "previous", previous_);
       if (has_body) {
-        H5::Group b = file.createGroup("body");
+        Hdf5Group b = file.create_group("body");
         write_frames_dataset(b, body_frames_, body_faces_);
       }
-      H5::Group e = file.createGroup("energies");
+      Hdf5Group e = file.create_group("energies");
       for (size_t i = 0; i < energy_names_.size(); ++i) {
         std::vector<double> col;
         for (const auto& row : energies_) col.push_back(row[i]);
-        hsize_t dims[1] = {col.size()};
-        e.createDataSet(energy_names_[i], H5::PredType::NATIVE_DOUBLE, H5::DataSpace(1, dims))
-            .write(col.data(), H5::PredType::NATIVE_DOUBLE);
+        e.write(energy_names_[i], {col.size()}, col.data());
       }
-      H5::Attribute fps = file.openGroup("/").createAttribute("fps", H5::PredType::NATIVE_DOUBLE,
-                                                             H5::DataSpace(H5S_SCALAR));
-      fps.write(H5::PredType::NATIVE_DOUBLE, &outputs_.fps);
-      file.close();
-    } catch (const H5::Exception& ex) {
-      std::remove(tmp.c_str());
-      fail_file(path, "cannot write HDF5: " + ex.getDetailMsg());
-    }
-    commit_file(tmp, path);
+      file.set_attribute("fps", outputs_.fps);
+    });
     written_.push_back(path);
   }
   return written_;

@@ -7,7 +7,7 @@
 #include "pb4u/body/procedural_motion.h"
 #include "pb4u/data/dataset.h"
 #include "pb4u/data/lbs_frame.h"
-#include "pb4u/eval/rollout.h"
+#include "pb4u/rollout/rollout.h"
 #include "pb4u/garment/garment_template.h"
 #include "pb4u/garment/import_garment.h"
 #include "pb4u/garment/skin_weight_transfer.h"

@@ -5,9 +5,9 @@
 #include <filesystem>
 #include <limits>
 
-#include "pb4u/eval/rollout.h"
+#include "pb4u/rollout/rollout.h"
 #include "pb4u/util/atomic_file.h"
-#include "pb4u/sim/preview.h"
+#include "pb4u/io/preview.h"
 #include "pb4u/util/plot_script.h"
 #include "pb4u/util/progress.h"
 

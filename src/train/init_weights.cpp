@@ -2,8 +2,8 @@
 
 #include <sstream>
 
-#include "pb4u/eval/model_file.h"
-#include "pb4u/train/checkpoint.h"
+#include "pb4u/model/model_file.h"
+#include "pb4u/model/checkpoint.h"
 #include "pb4u/util/error.h"
 
 namespace pb4u {

@@ -1,10 +1,10 @@
 #include "pb4u/train/metrics_log.h"
 
+#include <nlohmann/json.hpp>
+
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <cstring>
-#include <sstream>
 
 #include "pb4u/util/atomic_file.h"
 #include "pb4u/util/error.h"
@@ -12,11 +12,25 @@
 namespace pb4u {
 namespace {
 
-// The step of a line we wrote: it always starts with {"step": N.
-int64_t line_step(const std::string& line) {
-  auto colon = line.find(':');
-  if (line.rfind("{\"step\"", 0) != 0 || colon == std::string::npos) return -1;
-  return std::atoll(line.c_str() + colon + 1);
+using MetricsJson = nlohmann::ordered_json;  // keys in the order written
+
+// The "step" of a metrics line, or -1 when the line is not a record with one (a line cut short
+// by a killed run).
+int64_t metrics_line_step(const std::string& line) {
+  const MetricsJson record = MetricsJson::parse(line, nullptr, /*allow_exceptions=*/false);
+  if (!record.is_object()) return -1;  // a parse error is "discarded", not an object
+  const auto step = record.find("step");
+  if (step == record.end() || !step->is_number()) return -1;
+  return step->get<int64_t>();
+}
+
+// A value rounded to 9 significant digits ("%.9g"), so nlohmann's shortest round-trip form has
+// the same digits; non-finite values are null (JSON has no NaN).
+MetricsJson metric_figure(double v) {
+  if (!std::isfinite(v)) return nullptr;
+  char s[32];
+  std::snprintf(s, sizeof s, "%.9g", v);
+  return std::strtod(s, nullptr);
 }
 
 }  // namespace
@@ -26,7 +40,7 @@ MetricsLog::MetricsLog(const std::string& path, int64_t resume_step) : path_(pat
     std::ifstream in(path);
     std::string line, kept;
     while (std::getline(in, line))
-      if (int64_t s = line_step(line); s >= 0 && s <= resume_step) kept += line + "\n";
+      if (int64_t s = metrics_line_step(line); s >= 0 && s <= resume_step) kept += line + "\n";
     AtomicFile file(path);
     file.stream() << kept;
     file.commit();
@@ -36,18 +50,10 @@ MetricsLog::MetricsLog(const std::string& path, int64_t resume_step) : path_(pat
 }
 
 void MetricsLog::write(int64_t step, const std::vector<std::pair<std::string, double>>& values) {
-  std::ostringstream line;
-  line << "{\"step\": " << step;
-  char buf[64];
-  for (const auto& [key, value] : values) {
-    if (std::isfinite(value))
-      std::snprintf(buf, sizeof buf, "%.9g", value);
-    else
-      std::snprintf(buf, sizeof buf, "null");
-    line << ", \"" << key << "\": " << buf;
-  }
-  line << "}\n";
-  out_ << line.str();
+  MetricsJson record = {{"step", step}};
+  for (const auto& [key, value] : values) record[key] = metric_figure(value);
+  // One line, written at once: a killed run leaves at most the last line cut short.
+  out_ << record.dump(-1, ' ', false, MetricsJson::error_handler_t::replace) + "\n";
   out_.flush();
   if (!out_) fail_file(path_, "cannot write metrics (disk full?)");
 }
@@ -57,22 +63,19 @@ std::vector<std::vector<std::pair<std::string, double>>> read_metrics(const std:
   if (!in) fail_file(path, "cannot read metrics log");
   std::vector<std::vector<std::pair<std::string, double>>> rows;
   std::string line;
-  while (std::getline(in, line)) {
+  for (int number = 1; std::getline(in, line); ++number) {
+    if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
+    const bool cut_short = in.eof();  // the last line, without its newline
+    const std::string where = "line " + std::to_string(number) + ": ";
+    const MetricsJson record = MetricsJson::parse(line, nullptr, /*allow_exceptions=*/false);
+    if (!record.is_object()) {
+      if (cut_short) break;  // a killed run's half-written line
+      fail_file(path, where + "not a JSON object");
+    }
     std::vector<std::pair<std::string, double>> row;
-    // Flat objects of "key": number|null pairs, as written above.
-    size_t pos = 0;
-    while ((pos = line.find('"', pos)) != std::string::npos) {
-      size_t end = line.find('"', pos + 1);
-      if (end == std::string::npos) break;
-      std::string key = line.substr(pos + 1, end - pos - 1);
-      size_t colon = line.find(':', end);
-      if (colon == std::string::npos) break;
-      const char* v = line.c_str() + colon + 1;
-      while (*v == ' ') ++v;
-      double value = std::strncmp(v, "null", 4) == 0 ? NAN : std::strtod(v, nullptr);
-      row.emplace_back(key, value);
-      pos = line.find_first_of(",}", colon);
-      if (pos == std::string::npos) break;
+    for (auto it = record.begin(); it != record.end(); ++it) {
+      if (!it->is_number() && !it->is_null()) fail_file(path, where + "'" + it.key() + "' is not a number");
+      row.emplace_back(it.key(), it->is_null() ? NAN : it->get<double>());
     }
     if (!row.empty()) rows.push_back(std::move(row));
   }

@@ -3,82 +3,22 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
-#include <chrono>
-#include <cmath>
-#include <filesystem>
-#include <fstream>
-#include <iterator>
+#include <cstdio>
 #include <mutex>
-#include <sstream>
 
-#include <unistd.h>
-
-#include "pb4u/data/lbs_frame.h"
-#include "pb4u/graph/online_normalizer.h"
-#include "pb4u/graph/build_graph.h"
-#include "pb4u/mesh/geometry.h"
-#include "pb4u/model/euler_step.h"
-#include "pb4u/model/propagation_control.h"
-#include "pb4u/physics/body_queries.h"
-#include "pb4u/physics/energy_report.h"
+#include "pb4u/model/checkpoint.h"
 #include "pb4u/physics/physics_term.h"
-#include "pb4u/scene/pins.h"
-#include "pb4u/train/checkpoint.h"
+#include "pb4u/train/group_start.h"
 #include "pb4u/train/init_weights.h"
 #include "pb4u/train/metrics_log.h"
-#include "pb4u/util/atomic_file.h"
+#include "pb4u/train/run_directory.h"
 #include "pb4u/util/device.h"
-#include "pb4u/util/eigen_tensor.h"
 #include "pb4u/util/error.h"
 #include "pb4u/util/progress.h"
 
 namespace pb4u {
-namespace fs = std::filesystem;
 
 namespace {
-
-std::string checkpoints_dir(const TrainConfig& c) { return c.run.out + "/checkpoints"; }
-
-// Global sample g of step `step`: its own RNG, independent of the rank that draws it.
-std::mt19937_64 sample_rng(int seed, int64_t step, int64_t g) {
-  std::seed_seq seq{static_cast<uint32_t>(seed), static_cast<uint32_t>(step),
-                    static_cast<uint32_t>(step >> 32), static_cast<uint32_t>(g)};
-  return std::mt19937_64(seq);
-}
-
-std::vector<OnlineNormalizerImpl*> normalisers(torch::nn::Module& model) {
-  std::vector<OnlineNormalizerImpl*> out;
-  for (const auto& m : model.modules())
-    if (auto* n = dynamic_cast<OnlineNormalizerImpl*>(m.get())) out.push_back(n);
-  return out;
-}
-
-bool normalisers_warming_up(torch::nn::Module& model) {
-  for (auto* n : normalisers(model))
-    if (!n->frozen()) return true;
-  return false;
-}
-
-// Every normaliser's (accumulations, count, sum, sum_squares), flat float64 on the CPU.
-torch::Tensor normaliser_statistics(torch::nn::Module& model) {
-  std::vector<torch::Tensor> parts;
-  for (auto* n : normalisers(model))
-    for (const auto& t : {n->accumulations, n->count, n->sum, n->sum_squares})
-      parts.push_back(t.detach().to(torch::kCPU, torch::kFloat64).reshape({-1}));
-  return torch::cat(parts);
-}
-
-void set_normaliser_statistics(torch::nn::Module& model, const torch::Tensor& flat) {
-  torch::NoGradGuard no_grad;
-  int64_t offset = 0;
-  for (auto* n : normalisers(model))
-    for (auto* t : {&n->accumulations, &n->count, &n->sum, &n->sum_squares}) {
-      torch::Tensor part = flat.narrow(0, offset, t->numel()).view(t->sizes());
-      if (t->scalar_type() == torch::kInt64) part = part.round();
-      t->copy_(part.to(t->options()));
-      offset += t->numel();
-    }
-}
 
 // run.device; with CUDA, rank R of a group takes GPU R mod (GPUs on this machine), so ranks
 // started in order on one machine use one GPU each.
@@ -87,12 +27,6 @@ torch::Device training_device(const std::string& name, const DistributedGroup* g
   if (device.is_cuda() && group && group->world_size() > 1)
     device = torch::Device(torch::kCUDA, static_cast<c10::DeviceIndex>(group->rank() % torch::cuda::device_count()));
   return device;
-}
-
-std::string read_binary_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) fail_file(path, "cannot read checkpoint");
-  return std::string(std::istreambuf_iterator<char>(in), {});
 }
 
 }  // namespace
@@ -140,7 +74,6 @@ Trainer::Trainer(TrainConfig config, std::string config_yaml, TrainingData data,
 // Rank 0 owns the run directory: it checks it, resumes from it and writes the config. The
 // other ranks get its verdict, its checkpoint and its weights, so the group starts as one.
 void Trainer::start_group(bool resume) {
-  const std::string ckpt_dir = checkpoints_dir(config_);
   const bool distributed = group_ && group_->world_size() > 1;
   std::string problem, checkpoint_bytes;
   auto load = [this](const std::string& path) {
@@ -151,10 +84,7 @@ void Trainer::start_group(bool resume) {
   };
   if (is_root()) {
     try {
-      const std::string latest = latest_checkpoint(ckpt_dir);
-      if (resume && latest.empty()) throw Error(ckpt_dir + ": --resume given but there is no checkpoint");
-      if (!resume && !latest.empty())
-        throw Error(config_.run.out + ": already holds checkpoints; use --resume to continue it, or a new run.out");
+      const std::string latest = checkpoint_to_resume(config_.run.out, resume);
       if (resume) {
         load(latest);
         if (distributed) checkpoint_bytes = read_binary_file(latest);
@@ -174,277 +104,13 @@ void Trainer::start_group(bool resume) {
       problem = e.what();
     }
   }
+  if (distributed) {
+    agree_to_start(*group_, problem, config_yaml_, resume);
+    if (resume) share_checkpoint(*group_, checkpoint_bytes, load);
+    broadcast_module_state(*group_, *model_);
+  }
   // The run directory is written once the whole group has agreed to start.
-  auto write_run_dir = [&] {
-    if (!is_root()) return;
-    ensure_output_dir(ckpt_dir);
-    write_text_file(config_.run.out + "/config.yaml", config_yaml_);
-  };
-  if (!distributed) return write_run_dir();
-
-  problem = group_->broadcast_bytes(problem);
-  if (!problem.empty()) throw Error(is_root() ? problem : "rank 0 could not start the run: " + problem);
-  // Ranks with different configs would train different things under one name; a --resume
-  // on some ranks only would pair different collectives.
-  torch::Tensor votes = torch::tensor({group_->broadcast_bytes(config_yaml_) == config_yaml_ ? 0L : 1L,
-                                       resume ? 1L : 0L});
-  group_->all_reduce_sum(votes);
-  const int64_t other_configs = votes[0].item<int64_t>(), resuming = votes[1].item<int64_t>();
-  if (other_configs > 0)
-    throw Error("rank " + std::to_string(group_->rank()) + ": " + std::to_string(other_configs) +
-                " rank(s) run another training config than rank 0; every rank must get the same --config and --set");
-  if (resuming != 0 && resuming != group_->world_size())
-    throw Error("--resume: given to " + std::to_string(resuming) + " of " + std::to_string(group_->world_size()) +
-                " ranks; give it to every rank or to none");
-  if (resume) {
-    checkpoint_bytes = group_->broadcast_bytes(checkpoint_bytes);
-    if (!is_root()) {
-      const std::string tmp = (fs::temp_directory_path() /
-                               ("pb4u_resume_rank" + std::to_string(group_->rank()) + "_" +
-                                std::to_string(::getpid()) + ".pt")).string();
-      {
-        AtomicFile file(tmp, /*binary=*/true);
-        file.stream().write(checkpoint_bytes.data(), static_cast<std::streamsize>(checkpoint_bytes.size()));
-        file.commit();
-      }
-      try {
-        load(tmp);
-      } catch (...) {
-        fs::remove(tmp);
-        throw;
-      }
-      fs::remove(tmp);
-    }
-  }
-  // Rank 0's weights and statistics everywhere, whatever each rank's initialisation did.
-  for (auto& p : model_->parameters()) {
-    torch::Tensor data = p.detach();
-    group_->broadcast(data);
-  }
-  for (auto& b : model_->buffers()) group_->broadcast(b);
-  write_run_dir();
-}
-
-Trajectory Trainer::fresh_trajectory(std::mt19937_64& rng, int rollout) {
-  // Garment, motion of its body, start frame, material, effects (and pins).
-  Trajectory tr;
-  tr.garment = std::uniform_int_distribution<int>(0, int(data_.garments.size()) - 1)(rng);
-  const int bi = data_.garment_body[tr.garment];
-  std::vector<int> motions;
-  for (int m = 0; m < int(data_.motions.size()); ++m)
-    if (data_.motion_body[m] == bi) motions.push_back(m);
-  if (motions.empty()) throw Error(config_.data.dataset + ": no training motion for body " + data_.bodies[bi].name);
-  tr.motion = motions[std::uniform_int_distribution<size_t>(0, motions.size() - 1)(rng)];
-  const Motion& motion = data_.motions[tr.motion];
-  const int r = std::min(rollout, std::max(1, motion.num_frames() - 2));
-  tr.frame = std::uniform_int_distribution<int>(1, std::max(1, motion.num_frames() - 1 - r))(rng);
-  tr.material = sample_material(config_.materials, Material{}, rng);
-  tr.effects = sample_effects(config_.effects, rng);
-  // One factor draws nothing, so runs without scales keep their samples.
-  const auto& scales = config_.data.scales;
-  if (scales.size() > 1) tr.scale = std::uniform_int_distribution<int>(0, int(scales.size()) - 1)(rng);
-  const double c = scales[tr.scale];
-
-  const Garment& garment = data_.garments[tr.garment];
-  LbsFrame frame = lbs_frame(data_.bodies[bi], garment, motion, tr.frame, config_.data.push_out_gap);
-  tr.x = matrix_to_tensor(frame.garment * c, torch::kFloat32, device_);
-  tr.x_prev = matrix_to_tensor(frame.garment_prev * c, torch::kFloat32, device_);
-  const bool waistband = tr.effects.needs_body() && config_.waistband.holds(garment.name);
-  if (waistband) tr.effects.pins = true;
-  if (tr.effects.pins) {
-    tr.pinned = torch::zeros({tr.x.size(0)}, torch::TensorOptions().dtype(torch::kBool));
-    for (int i : waistband ? top_band_vertices(garment.mesh.V, config_.waistband.band)
-                           : sample_pinned_vertices(garment.mesh.V, rng))
-      tr.pinned[i] = true;
-    tr.pinned = tr.pinned.to(device_);
-    tr.pin_anchor = tr.x.clone();
-  }
-  return tr;
-}
-
-Trainer::SampleResult Trainer::train_sample(std::mt19937_64& rng, int slot, int rollout, double collision_weight) {
-  SampleResult result;
-  // Continue one of this slot's replay chains, or start fresh (and put it in that chain).
-  const ReplayConfig& replay = config_.replay;
-  int chain = -1;
-  Trajectory tr;
-  if (replay.chains > 0) {
-    if (chains_.size() <= size_t(slot)) chains_.resize(slot + 1);
-    chains_[slot].resize(replay.chains);
-    chain = std::uniform_int_distribution<int>(0, replay.chains - 1)(rng);
-    const bool fresh = std::uniform_real_distribution<double>(0, 1)(rng) < replay.p_fresh;
-    if (!fresh && chains_[slot][chain].active()) tr = chains_[slot][chain];
-  }
-  if (!tr.active()) tr = fresh_trajectory(rng, rollout);
-  const double c = config_.data.scales[tr.scale];
-  result.K = sample_propagation_steps(config_.model, rng, 1.0 / c);
-  result.age = tr.age;
-
-  const int gi = tr.garment;
-  const Body& body = data_.bodies[data_.garment_body[gi]];
-  const Garment& garment = data_.garments[gi];
-  const Motion& motion = data_.motions[tr.motion];
-  const int r = std::max(1, std::min(rollout, motion.num_frames() - 1 - tr.frame));
-  result.rollout = r;
-
-  FrameState state;
-  state.x = tr.x;
-  state.x_prev = tr.x_prev;
-  state.effects = tr.effects;
-  state.material = tr.material;
-  state.pinned = tr.pinned;
-  const torch::Tensor body_faces = index_matrix_to_tensor(body.mesh.F, device_);
-  // Poses stay at the motion's size (lbs_garment needs them so); the state gets them times c.
-  auto pose = [&](int k) { return pose_body(body, motion.frames[std::clamp(k, 0, motion.num_frames() - 1)]); };
-  Eigen::MatrixXd body_now = pose(tr.frame), body_next = pose(tr.frame + 1);
-
-  TermList terms = build_terms(tr.effects, config_.physics, collision_weight);
-  torch::Tensor loss_sum = torch::zeros({}, torch::TensorOptions().device(device_));
-  std::vector<double> term_sums(terms.size(), 0.0);
-  double last_positive = 0;  // of the last step: does the chain stay plausible?
-  for (int i = 0; i < r; ++i) {
-    if (tr.effects.needs_body()) {
-      state.body.vertices = matrix_to_tensor(body_now * c, torch::kFloat32, device_);
-      state.body.next_vertices = matrix_to_tensor(body_next * c, torch::kFloat32, device_);
-      state.body.faces = body_faces;
-    } else {
-      state.body = BodyFrame{};
-    }
-    if (tr.effects.pins) {
-      // With a body the pins ride on the skinned garment; without one they stay put.
-      state.pin_targets = tr.effects.needs_body()
-                              ? matrix_to_tensor(lbs_garment(body, garment, motion, tr.frame + i + 1, body_next,
-                                                             config_.data.push_out_gap) * c,
-                                                 torch::kFloat32, device_)
-                              : tr.pin_anchor;
-    }
-    const int vi = variant(gi, tr.scale);
-    GraphBatch graph = build_graph(state, topology_[vi], config_.model.graph_options());
-    torch::Tensor accel = model_->forward(graph, result.K);
-    torch::Tensor x_next = euler_step(state, accel);
-    std::optional<BodyContact> contact = body_contact_for(state, config_.physics);
-    auto energies = term_energies(terms, x_next, state, cloth_[vi], contact ? &*contact : nullptr);
-    torch::Tensor step_loss = torch::zeros({}, x_next.options());
-    last_positive = 0;
-    for (size_t k = 0; k < energies.size(); ++k) {
-      step_loss = step_loss + energies[k].second;
-      const double v = energies[k].second.item<double>();
-      term_sums[k] += v;
-      if (is_positive_term(energies[k].first)) last_positive += v;
-    }
-    loss_sum = loss_sum + step_loss.detach();
-    step_loss.backward();  // gradients accumulate; the next step starts from a detached state
-    state.x_prev = state.x;
-    state.x = x_next.detach();
-    if (i + 1 < r) {
-      body_now = body_next;
-      body_next = pose(tr.frame + i + 2);
-    }
-  }
-  result.loss = loss_sum.item<double>() / r;
-  for (size_t k = 0; k < terms.size(); ++k) result.terms.emplace_back(terms[k]->name(), term_sums[k] / r);
-  if (chain >= 0) {
-    tr.x = state.x;
-    tr.x_prev = state.x_prev;
-    tr.frame += r;
-    tr.age += r;
-    const bool room = tr.frame + 1 < motion.num_frames() - 1;
-    const bool plausible = std::isfinite(last_positive) && last_positive < replay.restart_energy &&
-                           std::isfinite(result.loss);
-    chains_[slot][chain] = room && plausible ? tr : Trajectory{};
-  }
-  return result;
-}
-
-StepResult Trainer::train_step() {
-  auto t0 = std::chrono::steady_clock::now();
-  model_->train();
-  StepResult result;
-  result.step = step_ + 1;
-  const int rollout = rollout_length(config_.curriculum, step_);
-  result.lr = learning_rate(config_.optim, step_, config_.run.steps);
-  result.collision_weight = collision_weight(config_.physics.collision, step_);
-  for (auto& group : optimizer_->param_groups())
-    static_cast<torch::optim::AdamOptions&>(group.options()).lr(result.lr);
-
-  const int batch = config_.run.batch;
-  const int rank = group_ ? group_->rank() : 0;
-  auto params = model_->parameters();
-  int64_t grad_numel = 0;
-  for (const auto& p : params) grad_numel += p.numel();
-  const int64_t n_params = static_cast<int64_t>(params.size()), n_terms = static_cast<int64_t>(term_names_.size());
-  const bool warmup = normalisers_warming_up(*model_);
-  const torch::Tensor stats_start = warmup ? normaliser_statistics(*model_) : torch::Tensor();
-
-  // What the ranks sum, in one buffer: gradients | samples that had each parameter's
-  // gradient | loss, samples | term sums | term counts | normaliser statistics added.
-  const int64_t n_totals = 2 + 2 * n_terms, n_stats = warmup ? stats_start.numel() : 0;
-  torch::Tensor sums = torch::zeros({grad_numel + n_params + n_totals + n_stats}, torch::kFloat64);
-  torch::Tensor grads = sums.narrow(0, 0, grad_numel);
-  torch::Tensor present = sums.narrow(0, grad_numel, n_params);
-  torch::Tensor totals = sums.narrow(0, grad_numel + n_params, n_totals);
-  torch::Tensor stats_added = sums.narrow(0, grad_numel + n_params + n_totals, n_stats);
-  auto total = totals.accessor<double, 1>();
-  auto present_count = present.accessor<double, 1>();
-  for (int j = 0; j < batch; ++j) {
-    std::mt19937_64 rng = sample_rng(config_.run.seed, step_, int64_t(rank) * batch + j);
-    if (warmup) set_normaliser_statistics(*model_, stats_start);
-    for (auto& p : params) p.mutable_grad() = torch::Tensor();
-    SampleResult s = train_sample(rng, j, rollout, result.collision_weight);
-    if (j == 0) {
-      result.rollout = s.rollout;
-      result.K = s.K;
-      result.age = s.age;
-    }
-    int64_t offset = 0;
-    for (int64_t i = 0; i < n_params; ++i) {
-      const torch::Tensor& g = params[i].grad();
-      if (g.defined()) {
-        grads.narrow(0, offset, g.numel()).add_(g.detach().reshape({-1}).to(torch::kCPU, torch::kFloat64));
-        present_count[i] += 1;
-      }
-      offset += params[i].numel();
-    }
-    total[0] += s.loss;
-    total[1] += 1;
-    for (const auto& [name, value] : s.terms) {
-      const auto k = std::find(term_names_.begin(), term_names_.end(), name) - term_names_.begin();
-      if (k == n_terms) throw Error("training: term '" + name + "' is not one of the six physics terms");
-      total[2 + k] += value;
-      total[2 + n_terms + k] += 1;
-    }
-    if (warmup) stats_added.add_(normaliser_statistics(*model_) - stats_start);
-  }
-  if (group_) group_->all_reduce_sum(sums);
-
-  // Every rank holds the same sums now, so every rank makes the same decisions below.
-  const double samples = total[1];
-  result.samples = static_cast<int64_t>(samples);
-  if (warmup) set_normaliser_statistics(*model_, stats_start + stats_added);
-  result.loss = total[0] / samples;
-  for (int64_t k = 0; k < n_terms; ++k)
-    if (total[2 + n_terms + k] > 0) result.terms.emplace_back(term_names_[k], total[2 + k] / total[2 + n_terms + k]);
-  const bool finite = std::isfinite(result.loss) && torch::isfinite(grads).all().item<bool>();
-  int64_t offset = 0;
-  for (int64_t i = 0; i < n_params; ++i) {
-    auto& p = params[i];
-    if (finite && present_count[i] > 0)
-      p.mutable_grad() = (grads.narrow(0, offset, p.numel()) / samples).view(p.sizes()).to(p.options());
-    else
-      p.mutable_grad() = torch::Tensor();
-    offset += p.numel();
-  }
-  if (!finite) {
-    result.skipped = true;
-    ++skipped_steps_;
-  } else {
-    torch::nn::utils::clip_grad_norm_(params, config_.optim.grad_clip);
-    optimizer_->step();
-  }
-  ++step_;
-  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  elapsed_seconds_ += result.seconds;
-  return result;
+  if (is_root()) write_run_directory(config_.run.out, config_yaml_);
 }
 
 void Trainer::save(bool final_checkpoint) {
@@ -454,9 +120,8 @@ void Trainer::save(bool final_checkpoint) {
   meta.host_rng_state = "";  // samples are seeded by (seed, step, sample): nothing to keep
   meta.elapsed_seconds = elapsed_seconds_;
   meta.skipped_steps = skipped_steps_;
-  save_checkpoint(checkpoint_path(checkpoints_dir(config_), step_), *model_, optimizer_.get(), meta);
-  prune_checkpoints(checkpoints_dir(config_), config_.run.keep_checkpoints);
-  if (final_checkpoint) save_checkpoint(config_.run.out + "/final.pt", *model_, nullptr, meta);
+  save_run_checkpoint(config_.run.out, *model_, optimizer_.get(), meta, config_.run.keep_checkpoints,
+                      final_checkpoint);
 }
 
 void Trainer::run(int64_t stop_at) {

@@ -12,6 +12,8 @@
 #include <torch/torch.h>
 #include <vector>
 
+#include "pb4u/util/resource_dir.h"
+
 namespace pb4u {
 namespace {
 
@@ -103,6 +105,9 @@ void log_runtime_info() {
   spdlog::info("runtime: BLAS core {}, {} torch threads (OpenMP wait policy {}), malloc {}, libtorch {}",
                blas_core_name(), torch::get_num_threads(), wait ? wait : "default",
                allocator_tuned ? "tuned" : "default", TORCH_VERSION);
+  const std::string resources = resource_dir();
+  spdlog::debug("resources (scripts, configs, data): {}",
+                resources.empty() ? "none found beside the binary (set PB4U_DATA_DIR)" : resources);
 }
 
 }  // namespace pb4u

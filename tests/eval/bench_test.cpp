@@ -10,7 +10,8 @@
 #include <sstream>
 
 #include "pb4u/eval/bench.h"
-#include "pb4u/eval/model_file.h"
+#include "pb4u/eval/bench_writers.h"
+#include "pb4u/model/model_file.h"
 #include "eval/eval_test_util.h"
 #include "test_util.h"
 

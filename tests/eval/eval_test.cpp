@@ -3,20 +3,22 @@
 // and survives a diverging model, simulate writes every frame in every format, a body-less
 // scene has no collision or friction, and corrupt or mismatched model files fail cleanly.
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <set>
 #include <sstream>
 
 #include "pb4u/data/dataset.h"
 #include "pb4u/eval/evaluate.h"
-#include "pb4u/eval/model_file.h"
-#include "pb4u/eval/rollout.h"
+#include "pb4u/model/model_file.h"
+#include "pb4u/rollout/rollout.h"
 #include "pb4u/io/module_hdf5.h"
 #include "pb4u/mesh/topology.h"
 #include "pb4u/physics/body_queries.h"
-#include "pb4u/sim/point_cache.h"
+#include "pb4u/io/point_cache.h"
 #include "pb4u/sim/simulate.h"
 #include "pb4u/train/trainer.h"
 #include "pb4u/train/training_data.h"
@@ -188,15 +190,28 @@ TEST(Evaluate, JsonHasEveryActiveTermPerLevelAndMethod) {
   auto r = test::run_pb4u("-q evaluate --checkpoint " + ckpt + " --checkpoint " + exported + " --config " + kSource +
                           "/configs/eval/tiny.yaml --set dataset=" + test::tiny_dataset() + " --format json");
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  // Two methods named from their configs, disambiguated by file stem.
-  EXPECT_NE(r.out.find("\"Pb4U (final)\""), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find("\"Pb4U (m)\""), std::string::npos) << r.out;
-  for (const char* key : {"\"level\": 1", "\"level\": 3", "\"stretch\": ", "\"bending\": ", "\"collision\": ",
-                          "\"inertia\": ", "\"gravity\": ", "\"friction\": ", "\"total\": ",
-                          "\"diverged\": false", "\"diverged_at_frame\": null"})
-    EXPECT_NE(r.out.find(key), std::string::npos) << key;
-  EXPECT_EQ(r.out.find("null,"), std::string::npos) << "a term without a value: " << r.out;
-  EXPECT_EQ(r.out.find("nan"), std::string::npos);
+  const nlohmann::json report = nlohmann::json::parse(r.out);  // valid JSON: no nan either
+  std::set<int> level_numbers;
+  int undiverged = 0;
+  for (const auto& level : report.at("levels")) {
+    level_numbers.insert(level.at("level").get<int>());
+    const auto& methods = level.at("methods");
+    // Two methods named from their configs, disambiguated by file stem.
+    EXPECT_TRUE(methods.contains("Pb4U (final)")) << methods.dump();
+    EXPECT_TRUE(methods.contains("Pb4U (m)")) << methods.dump();
+    for (const auto& [name, method] : methods.items()) {
+      // Every active term and the total, with a value (not null), per method and per rollout.
+      std::vector<nlohmann::json> holders{method};
+      for (const auto& sequence : method.at("sequences")) holders.push_back(sequence);
+      for (const auto& holder : holders)
+        for (const char* key : {"stretch", "bending", "collision", "inertia", "gravity", "friction", "total"})
+          EXPECT_TRUE(holder.contains(key) && holder.at(key).is_number())
+              << name << " " << key << ": " << holder;
+      if (method.at("diverged") == false && method.at("diverged_at_frame").is_null()) ++undiverged;
+    }
+  }
+  EXPECT_TRUE(level_numbers.count(1) && level_numbers.count(3)) << r.out;
+  EXPECT_GT(undiverged, 0) << r.out;
 
   // The table: one row per term and the total; the export equals the checkpoint in every cell.
   r = test::run_pb4u("-q evaluate --checkpoint " + ckpt + " --checkpoint " + exported + " --config " + kSource +
@@ -225,7 +240,11 @@ TEST(Evaluate, WithoutGravityTheTermIsAbsent) {
   ASSERT_TRUE(levels[0].methods[0].mean);
   EXPECT_FALSE(levels[0].methods[0].mean->has("gravity"));
   EXPECT_TRUE(levels[0].methods[0].mean->has("collision"));
-  EXPECT_EQ(format_json(levels).find("gravity"), std::string::npos);
+  const nlohmann::json report = nlohmann::json::parse(format_json(levels));
+  const nlohmann::json& method = report.at("levels")[0].at("methods").at("Pb4U");
+  EXPECT_TRUE(method.contains("collision")) << method;
+  EXPECT_FALSE(method.contains("gravity")) << method;
+  for (const auto& sequence : method.at("sequences")) EXPECT_FALSE(sequence.contains("gravity")) << sequence;
 }
 
 TEST(Evaluate, ADivergingModelIsReportedNotCrashed) {
@@ -240,8 +259,10 @@ TEST(Evaluate, ADivergingModelIsReportedNotCrashed) {
   EXPECT_FALSE(broken.mean);
   EXPECT_EQ(broken.frames, 0);
   const std::string json = format_json(levels), table = format_table(levels);
-  EXPECT_NE(json.find("\"diverged\": true, \"diverged_at_frame\": 1"), std::string::npos) << json;
-  EXPECT_EQ(json.find("nan"), std::string::npos) << json;
+  const nlohmann::json methods = nlohmann::json::parse(json).at("levels")[0].at("methods");  // no nan
+  EXPECT_EQ(methods.at("Broken").at("diverged"), true) << json;
+  EXPECT_EQ(methods.at("Broken").at("diverged_at_frame"), 1) << json;
+  EXPECT_EQ(methods.at("Pb4U").at("diverged"), false) << json;
   EXPECT_EQ(table.find("nan"), std::string::npos) << table;
   EXPECT_NE(table.find("Broken: diverged at frame 1"), std::string::npos) << table;
 }

@@ -8,9 +8,9 @@
 #include <filesystem>
 
 #include "pb4u/eval/model_average.h"
-#include "pb4u/eval/model_file.h"
+#include "pb4u/model/model_file.h"
 #include "pb4u/io/module_hdf5.h"
-#include "pb4u/train/checkpoint.h"
+#include "pb4u/model/checkpoint.h"
 #include "pb4u/train/trainer.h"
 #include "pb4u/train/training_data.h"
 #include "pb4u/util/error.h"

@@ -6,7 +6,7 @@
 #include "pb4u/data/dataset.h"
 #include "pb4u/data/lbs_frame.h"
 #include "pb4u/eval/evaluate.h"
-#include "pb4u/eval/rollout.h"
+#include "pb4u/rollout/rollout.h"
 #include "pb4u/physics/reference_solver.h"
 #include "pb4u/scene/pins.h"
 #include "pb4u/sim/scene.h"

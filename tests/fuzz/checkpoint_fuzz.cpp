@@ -4,7 +4,7 @@
 #include <cstdlib>
 
 #include "fuzz_input.h"
-#include "pb4u/train/checkpoint.h"
+#include "pb4u/model/checkpoint.h"
 #include "pb4u/util/error.h"
 
 // With PB4U_FUZZ_SEED_DIR set, writes a valid checkpoint there as the seed corpus.

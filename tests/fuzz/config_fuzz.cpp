@@ -1,7 +1,7 @@
 // Fuzzes typed config loading with a nested section, lists and every scalar type.
 #include "fuzz_input.h"
 #include "pb4u/config/config_io.h"
-#include "pb4u/physics/material.h"
+#include "pb4u/scene/material.h"
 
 namespace {
 struct FuzzConfig {

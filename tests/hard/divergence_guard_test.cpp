@@ -12,7 +12,7 @@
 #include "hard_case.h"
 #include "pb4u/eval/evaluate.h"
 #include "pb4u/mesh/geometry.h"
-#include "pb4u/sim/point_cache.h"
+#include "pb4u/io/point_cache.h"
 #include "pb4u/sim/rollout_writer.h"
 #include "pb4u/sim/simulate.h"
 #include "pb4u/util/error.h"

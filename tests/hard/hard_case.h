@@ -5,8 +5,8 @@
 #include <optional>
 #include <string>
 
-#include "pb4u/eval/model_file.h"
-#include "pb4u/eval/rollout.h"
+#include "pb4u/model/model_file.h"
+#include "pb4u/rollout/rollout.h"
 
 namespace pb4u::hard {
 

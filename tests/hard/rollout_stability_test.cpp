@@ -82,7 +82,7 @@ TEST_F(HardCases, FinestLevelNeverSeenInTraining) {
 // scripts/hanging_resolution.sh has a square at 1/1, 1/2 and 1/3 of it). Held to SPEC 9's 10x
 // of the solver's mean positive energy, with no floor: the solver's is ~0.8 mJ here, well
 // above zero, and the weight x 1 cm floor of check_relative (~0.01 J) would hide the failure
-// this case is for. The model shipped until session 13 sagged to 38x here (the bulk of the
+// this case is for. The model shipped before bd7d068 (2026-11-25) sagged to 38x here (the bulk of the
 // cloth held at the 10% strain limit); the one fine-tuned on scenes drawn smaller is at ~6x.
 TEST_F(HardCases, HangingAtHalfTheTrainingEdge) {
   const double lbar_base = hard::shipped_model().model->mean_edge_length_base();
@@ -252,7 +252,7 @@ TEST_F(HardCases, BodyMovingThroughTheGarmentFast) {
 TEST_F(HardCases, HeldOutGarmentOnAHeldOutMotion) {
   // The shipped model was trained on the quick dataset: the tiny dataset's skirt (another mesh)
   // on its mannequin, doing one of its test-split motions, is a garment, body and motion it
-  // never saw. It left the known-gap list with the contact projection (docs/robustness.md).
+  // never saw. It left the known-gap list with the contact projection (docs/log/).
   const Dataset data = read_dataset(test::tiny_dataset());
   const BodyRecord* record = data.find_body("mannequin");
   ASSERT_NE(record, nullptr);

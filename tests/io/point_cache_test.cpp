@@ -1,7 +1,7 @@
 // PC2 caches round-trip and reject truncated files.
 #include <gtest/gtest.h>
 
-#include "pb4u/sim/point_cache.h"
+#include "pb4u/io/point_cache.h"
 #include "pb4u/util/error.h"
 #include "test_util.h"
 

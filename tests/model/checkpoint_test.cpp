@@ -1,11 +1,13 @@
 // Checkpoints round-trip, fail cleanly on corrupt or mismatched files, and never leave
 // partial files; the metrics log drops steps a resumed run will redo.
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 #include <torch/torch.h>
 
 #include <filesystem>
+#include <sstream>
 
-#include "pb4u/train/checkpoint.h"
+#include "pb4u/model/checkpoint.h"
 #include "pb4u/train/metrics_log.h"
 #include "pb4u/util/error.h"
 #include "test_util.h"
@@ -126,7 +128,41 @@ TEST(MetricsLog, ResumeDropsLaterStepsAndNaNBecomesNull) {
   EXPECT_EQ(rows[2][0].second, 3);
   EXPECT_EQ(rows[3][0].second, 4);
   EXPECT_TRUE(std::isnan(rows[3][1].second));
-  EXPECT_NE(test::read_file(path).find("\"loss\": null"), std::string::npos);
+  std::istringstream lines(test::read_file(path));
+  std::string line;
+  for (int i = 0; i < 4; ++i) std::getline(lines, line);
+  const nlohmann::json last = nlohmann::json::parse(line);
+  EXPECT_EQ(last.at("step"), 4) << line;
+  EXPECT_TRUE(last.at("loss").is_null()) << line;
+}
+
+TEST(MetricsLog, AHalfWrittenLastLineIsSkippedAndDroppedOnResume) {
+  const std::string path = test::temp_dir("metrics") + "/metrics.jsonl";
+  {
+    MetricsLog log(path, -1);
+    for (int s = 1; s <= 3; ++s) log.write(s, {{"loss", 0.123456789012 * s}});
+  }
+  test::write_file(path, test::read_file(path) + "{\"step\": 4, \"loss\": 0.3");  // a killed run
+  auto rows = read_metrics(path);
+  ASSERT_EQ(rows.size(), 3u);
+  EXPECT_EQ(rows[2][1].first, "loss");
+  EXPECT_EQ(rows[2][1].second, 0.370370367);  // 9 significant digits
+  {
+    MetricsLog log(path, 3);
+    log.write(4, {{"loss", 0.5}});
+  }
+  rows = read_metrics(path);
+  ASSERT_EQ(rows.size(), 4u);
+  EXPECT_EQ(rows[3][0].second, 4);
+  EXPECT_EQ(rows[3][1].second, 0.5);
+  // A broken line that is not the last one is an error naming the file.
+  test::write_file(path, "not json\n" + test::read_file(path));
+  try {
+    read_metrics(path);
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()).rfind(path + ": line 1", 0), 0u) << e.what();
+  }
 }
 
 }  // namespace

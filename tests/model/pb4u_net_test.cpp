@@ -205,3 +205,39 @@ TEST(Pb4uNet, AccelerationUnitScalesTheOutputAndNormalDistanceWidensWorldEdges) 
 
 }  // namespace
 }  // namespace pb4u
+
+namespace pb4u {
+namespace {
+
+// The message passing's matmul FLOPs, read off the layers, against the closed form for MLPs of
+// L layers of width H (2 per multiply-add): an edge MLP costs its two node terms per node, its
+// edge term per edge (once for all K propagation steps) and L H x H layers per edge; a node
+// MLP three H x H first-layer terms and L layers per node; the update two terms and L layers.
+TEST(Pb4uNet, MessagePassingFlopsMatchTheClosedForm) {
+  for (const std::string kind : {"pb4u", "mgn"}) {
+    ModelConfig c = tiny_config(kind);
+    c.latent = 16;
+    c.mlp_hidden_layers = 3;
+    c.num_blocks = 2;
+    Pb4uNet net(c);
+    const double H = c.latent, L = c.mlp_hidden_layers, n = 50, Em = 140;
+    auto edge_mlp = [&](double E, bool edge_term) {
+      return 4.0 * n * H * H + (edge_term ? 2.0 * E * H * H : 0.0) + 2.0 * E * H * H * L;
+    };
+    for (const double Ew : {0.0, 30.0})
+      for (const int64_t K : {0, 1, 5}) {
+        double expected = 0;
+        if (kind == "pb4u") {
+          if (K > 0) expected += 2.0 * Em * H * H + double(K) * edge_mlp(Em, false);
+          expected += 4.0 * n * H * H + 2.0 * n * H * H * L;
+        }
+        for (int b = 0; b < c.num_blocks; ++b)
+          expected += edge_mlp(Em, true) + (Ew > 0 ? edge_mlp(Ew, true) : 0.0) + 6.0 * n * H * H + 2.0 * n * H * H * L;
+        EXPECT_DOUBLE_EQ(net->message_passing_flops(int64_t(n), int64_t(Em), int64_t(Ew), K), expected)
+            << kind << " K " << K << " world edges " << Ew;
+      }
+  }
+}
+
+}  // namespace
+}  // namespace pb4u

@@ -7,7 +7,7 @@
 #include <random>
 
 #include "pb4u/data/dataset.h"
-#include "pb4u/eval/rollout.h"
+#include "pb4u/rollout/rollout.h"
 #include "pb4u/graph/garment_topology.h"
 #include "pb4u/physics/collision_energy.h"
 #include "pb4u/physics/contact_projection.h"

@@ -17,7 +17,7 @@
 #include <iterator>
 #include <thread>
 
-#include "pb4u/train/checkpoint.h"
+#include "pb4u/model/checkpoint.h"
 #include "pb4u/train/distributed.h"
 #include "pb4u/train/metrics_log.h"
 #include "pb4u/train/trainer.h"

@@ -11,8 +11,8 @@
 #include <set>
 #include <thread>
 
-#include "pb4u/eval/model_file.h"
-#include "pb4u/train/checkpoint.h"
+#include "pb4u/model/model_file.h"
+#include "pb4u/model/checkpoint.h"
 #include "pb4u/train/metrics_log.h"
 #include "pb4u/train/trainer.h"
 #include "pb4u/train/training_data.h"

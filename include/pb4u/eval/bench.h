@@ -13,8 +13,8 @@
 
 #include "pb4u/config/config_io.h"
 #include "pb4u/eval/blender_cloth.h"
-#include "pb4u/eval/divergence_guard.h"
-#include "pb4u/physics/material.h"
+#include "pb4u/rollout/divergence_guard.h"
+#include "pb4u/scene/material.h"
 #include "pb4u/physics/penetration.h"
 #include "pb4u/physics/physics_config.h"
 
@@ -118,26 +118,5 @@ struct BenchResult {
 // each level (the CLI writes its files then, so a long run leaves results as it goes). Throws
 // pb4u::Error on bad config / data.
 BenchResult run_bench(const BenchConfig& config, const std::function<void(const BenchResult&)>& on_level = {});
-
-// SPEC 7: level,triangles,vertices,method,K,threads,latency_ms_median,latency_ms_min,physics_loss
-std::string format_bench_csv(const BenchResult& result);
-// Every column of every row, terms and (with a body) penetration included (for plots and
-// scripts).
-std::string format_bench_details_csv(const BenchResult& result);
-std::string format_stages_csv(const BenchResult& result);
-// Table 3 layout: per level, one row per method with K, latency, total and positive loss;
-// then the per-stage table, the FLOP-rate comparison, the Pb4U-vs-reference speed-up at equal
-// loss and the fitted latency exponents.
-std::string format_bench_table(const BenchResult& result);
-
-// The fastest run of `family` at `net`'s level whose loss is at or below the network's, or null.
-// A run the divergence guard stopped does not count: its loss covers only the frames before the
-// stop.
-const BenchRow* cheapest_at_equal_loss(const std::vector<BenchRow>& rows, const BenchRow& net,
-                                       const std::string& family);
-
-// Least-squares slope of log(latency) on log(vertices) over the rows of `method` (NaN if
-// fewer than two levels).
-double latency_exponent(const std::vector<BenchRow>& rows, const std::string& method);
 
 }  // namespace pb4u

@@ -10,10 +10,10 @@
 #include <vector>
 
 #include "pb4u/config/config_io.h"
-#include "pb4u/eval/divergence_guard.h"
-#include "pb4u/eval/model_file.h"
+#include "pb4u/rollout/divergence_guard.h"
+#include "pb4u/model/model_file.h"
 #include "pb4u/physics/energy_report.h"
-#include "pb4u/physics/material.h"
+#include "pb4u/scene/material.h"
 #include "pb4u/physics/penetration.h"
 #include "pb4u/physics/physics_config.h"
 #include "pb4u/scene/waistband.h"

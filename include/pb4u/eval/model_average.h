@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "pb4u/eval/model_file.h"
+#include "pb4u/model/model_file.h"
 
 namespace pb4u {
 

@@ -9,7 +9,7 @@
 #include "pb4u/config/config_io.h"
 #include "pb4u/mesh/triangle_mesh.h"
 #include "pb4u/physics/energy_report.h"
-#include "pb4u/physics/material.h"
+#include "pb4u/scene/material.h"
 #include "pb4u/physics/penetration.h"
 #include "pb4u/physics/physics_config.h"
 #include "pb4u/scene/effects.h"

@@ -7,7 +7,7 @@
 #include <string>
 
 #include "pb4u/graph/garment_topology.h"
-#include "pb4u/physics/material.h"
+#include "pb4u/scene/material.h"
 
 namespace pb4u {
 

@@ -1,6 +1,6 @@
 #pragma once
 // Settings of the graph builder; no torch here, so configs can include it.
-#include "pb4u/physics/material.h"
+#include "pb4u/scene/material.h"
 
 namespace pb4u {
 

@@ -17,6 +17,9 @@ struct DecayedPropagationImpl : torch::nn::Module {
   torch::Tensor forward(const torch::Tensor& v, const torch::Tensor& e, const torch::Tensor& senders,
                         const torch::Tensor& receivers, int64_t K);
 
+  // Matmul FLOPs of forward() on n nodes and E edges.
+  double matmul_flops(double n, double E, int64_t K) const;
+
   double gamma;
   bool split_first_layer = true;  // runtime switch for the benchmark; same weights either way
   MLP message{nullptr};           // f_m(h_i, h_j, e_ij), no LayerNorm of its own

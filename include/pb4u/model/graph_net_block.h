@@ -21,6 +21,9 @@ struct GraphNetBlockImpl : torch::nn::Module {
                       const torch::Tensor& mesh_receivers, const torch::Tensor& world_senders,
                       const torch::Tensor& world_receivers);
 
+  // Matmul FLOPs of forward() on n nodes, Em mesh and Ew world edges.
+  double matmul_flops(double n, double Em, double Ew) const;
+
   bool split_first_layer = true;  // runtime switch for the benchmark; same weights either way
   MLP mesh_edge{nullptr}, world_edge{nullptr}, node{nullptr};
 };

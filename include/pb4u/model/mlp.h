@@ -24,6 +24,11 @@ struct MLPImpl : torch::nn::Module {
   // remaining layers: (rows, output).
   torch::Tensor finish(torch::Tensor first_layer_sum);
 
+  // Multiply-add FLOPs (2 per multiply-add) of the matmuls above, read off the layers' shapes:
+  // first_layer(part) on `rows` rows, and finish() on `rows` rows.
+  double first_layer_flops(size_t part, double rows) const;
+  double finish_flops(double rows) const;
+
   std::vector<int64_t> input_sizes;
   std::vector<torch::Tensor> first_weights;  // per part, (hidden, input_sizes[i])
   torch::Tensor first_bias;                  // (hidden)
@@ -40,6 +45,10 @@ TORCH_MODULE(MLP);
 torch::Tensor edge_mlp(MLPImpl& f, const torch::Tensor& nodes, const torch::Tensor& edges,
                        const torch::Tensor& senders, const torch::Tensor& receivers,
                        const torch::Tensor& edge_term = {}, bool split = true);
+
+// Matmul FLOPs of edge_mlp (split form) over `nodes` nodes and `edges` edges; the edge part's
+// first layer is counted only when with_edge_term (propagation computes it once for K steps).
+double edge_mlp_flops(const MLPImpl& f, double nodes, double edges, bool with_edge_term);
 
 // (n, d): sum of the edge values (E, d) at their receivers.
 torch::Tensor sum_at_receivers(const torch::Tensor& values, const torch::Tensor& receivers, int64_t n);

@@ -51,6 +51,11 @@ struct Pb4uNetImpl : torch::nn::Module {
   // both give the same outputs. For the benchmark.
   void set_split_first_layer(bool split);
 
+  // Matmul FLOPs of the message passing of one forward (propagation, update and blocks; not
+  // the encoders or the decoder) on a graph of `nodes` nodes, `mesh_edges` and `world_edges`
+  // edges, with K propagation steps: the benchmark's measure of work per frame.
+  double message_passing_flops(int64_t nodes, int64_t mesh_edges, int64_t world_edges, int64_t K) const;
+
   ModelConfig config;
   OnlineNormalizer vertex_normalizer{nullptr}, mesh_normalizer{nullptr}, world_normalizer{nullptr};
   MLP vertex_encoder{nullptr}, mesh_encoder{nullptr}, world_encoder{nullptr};

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "pb4u/physics/cloth_geometry.h"
-#include "pb4u/physics/material.h"
+#include "pb4u/scene/material.h"
 
 namespace pb4u {
 

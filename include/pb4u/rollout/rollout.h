@@ -11,8 +11,8 @@
 #include <vector>
 
 #include "pb4u/body/body.h"
-#include "pb4u/eval/divergence_guard.h"
-#include "pb4u/eval/model_file.h"
+#include "pb4u/rollout/divergence_guard.h"
+#include "pb4u/model/model_file.h"
 #include "pb4u/garment/garment.h"
 #include "pb4u/graph/garment_topology.h"
 #include "pb4u/physics/body_queries.h"

@@ -3,7 +3,7 @@
 // terms (losses / metrics) and the reference solver. Plain tensors, any dtype and device.
 #include <torch/torch.h>
 
-#include "pb4u/physics/material.h"
+#include "pb4u/scene/material.h"
 #include "pb4u/scene/effects.h"
 
 namespace pb4u {

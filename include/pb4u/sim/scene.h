@@ -7,9 +7,9 @@
 #include <vector>
 
 #include "pb4u/config/config_io.h"
-#include "pb4u/eval/divergence_guard.h"
+#include "pb4u/rollout/divergence_guard.h"
 #include "pb4u/mesh/triangle_mesh.h"
-#include "pb4u/physics/material.h"
+#include "pb4u/scene/material.h"
 #include "pb4u/physics/physics_config.h"
 #include "pb4u/scene/effects.h"
 #include "pb4u/scene/waistband.h"

@@ -4,8 +4,8 @@
 #include <string>
 #include <vector>
 
-#include "pb4u/eval/model_file.h"
-#include "pb4u/eval/rollout.h"
+#include "pb4u/model/model_file.h"
+#include "pb4u/rollout/rollout.h"
 #include "pb4u/sim/scene.h"
 
 namespace pb4u {

@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "pb4u/config/config_io.h"
-#include "pb4u/physics/material.h"
+#include "pb4u/scene/material.h"
 #include "pb4u/scene/effects.h"
 
 namespace pb4u {

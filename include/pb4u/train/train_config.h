@@ -7,7 +7,7 @@
 
 #include "pb4u/config/config_io.h"
 #include "pb4u/model/model_config.h"
-#include "pb4u/physics/material.h"
+#include "pb4u/scene/material.h"
 #include "pb4u/physics/physics_config.h"
 #include "pb4u/scene/waistband.h"
 #include "pb4u/train/sampling.h"

@@ -1,5 +1,6 @@
 #pragma once
 // Numbers as text for tables and CSVs: printf's %.*E and %.*f.
+#include <cmath>
 #include <cstdio>
 #include <string>
 
@@ -9,6 +10,15 @@ namespace pb4u {
 inline std::string scientific(double v, int digits) {
   char s[40];
   std::snprintf(s, sizeof s, "%.*E", digits, v);
+  return s;
+}
+
+// v with `digits` significant digits (printf's %.*g), and `non_finite` for NaN and infinities:
+// significant(1234.5678, 6, "nan") = "1234.57".
+inline std::string significant(double v, int digits, const char* non_finite) {
+  if (!std::isfinite(v)) return non_finite;
+  char s[40];
+  std::snprintf(s, sizeof s, "%.*g", digits, v);
   return s;
 }
 
