@@ -1,17 +1,26 @@
 #include "pb4u/physics/reference_solver.h"
 
 #include <Eigen/SparseCholesky>
+#include <spdlog/spdlog.h>
 
+#include <chrono>
 #include <cmath>
 #include <deque>
 #include <functional>
 
+#include "pb4u/mesh/edges.h"
 #include "pb4u/physics/energy_report.h"
+#include "pb4u/physics/intersection_free_start.h"
 #include "pb4u/physics/quasi_newton_hessian.h"
+#include "pb4u/util/eigen_tensor.h"
 #include "pb4u/util/error.h"
+#include "pb4u/util/stopwatch.h"
 
 namespace pb4u {
 namespace {
+
+// m: the longest move of a vertex in one line search of the intersection-free solve.
+constexpr double kMaxContactStep = 5e-2;
 
 struct Pair {
   torch::Tensor s, y;
@@ -67,7 +76,7 @@ struct ElasticSolve {
 
 SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& cloth,
                                   const TermList& terms, const BodyContact* contact,
-                                  const ReferenceSolverConfig& config) {
+                                  const ReferenceSolverConfig& config, const BarrierStepInput* barrier) {
   check_positions(state.x, cloth);
   check_positions(state.x_prev, cloth);
   if (!torch::isfinite(state.x).all().item<bool>() || !torch::isfinite(state.x_prev).all().item<bool>())
@@ -97,13 +106,52 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
   const int64_t nf = free.size(0);
 
   SolverResult result;
+  // Barrier contact: an intersection-free start (pins where it could bring them), the body
+  // where that start is free of it, and the candidate pairs of the current line search.
+  ContactSurface body;
+  ContactCandidates candidates;
+  const auto start_time = std::chrono::steady_clock::now();
+  if (barrier) {
+    const Eigen::MatrixXd target = tensor_to_matrix(x_base);
+    torch::Tensor pinned_cpu = pinned.to(torch::kCPU);
+    std::vector<bool> held(static_cast<size_t>(n));
+    for (int64_t i = 0; i < n; ++i) held[size_t(i)] = pinned_cpu[i].item<bool>();
+    FeasibleStart start = intersection_free_start(tensor_to_matrix(state.x), target, held, barrier->cloth_edges,
+                                                  barrier->body_t, barrier->body_next, barrier->body_faces,
+                                                  barrier->settings.d_hat);
+    if (start.edges_through > 0)
+      spdlog::warn("reference solver: {} cloth edges still cut through the body at t after pushing the cloth out",
+                   start.edges_through);
+    spdlog::debug("barrier start: {} pushed out, body swept to {:.3f} in {} rounds, target reached {:.3f}, {:.0f} ms",
+                  start.pushed_out, start.body_progress, start.sweep_rounds, start.target_progress,
+                  ms_since(start_time));
+    result.body_progress = start.body_progress;
+    result.pushed_out = start.pushed_out;
+    body = make_contact_surface(start.body, barrier->body_faces);
+    x_base = matrix_to_tensor(start.x, opts.dtype().toScalarType(), state.x.device());
+    candidates = contact_candidates(start.x, {}, barrier->cloth_edges, body, {}, barrier->settings.d_hat);
+  }
+  auto positions = [&](const torch::Tensor& q) {
+    return tensor_to_matrix(x_base.index_copy(0, free, q.detach().reshape({nf, 3})));
+  };
   auto evaluate = [&](const torch::Tensor& q, torch::Tensor* grad) {
     torch::Tensor p = q.detach().reshape({nf, 3}).requires_grad_(true);
     torch::Tensor x = x_base.index_copy(0, free, p);
-    torch::Tensor E = total_energy(terms, x, state, cloth, contact);
+    // With the barrier, it takes the penalty collision term's place in the objective.
+    torch::Tensor E = torch::zeros({}, x.options());
+    for (const auto& term : terms)
+      if (!barrier || term->name() != "collision") E = E + term->energy(x, state, cloth, contact);
     *grad = torch::autograd::grad({E}, {p})[0].reshape({-1});
     ++result.evaluations;
-    return E.item<double>();
+    double energy = E.item<double>();
+    if (barrier) {
+      Eigen::MatrixXd G = Eigen::MatrixXd::Zero(n, 3);
+      const BarrierValue b = barrier_potential(positions(q), barrier->cloth_edges, body, candidates,
+                                               barrier->settings, &G);
+      energy += b.energy;
+      *grad += matrix_to_tensor(G, opts.dtype().toScalarType(), state.x.device()).index_select(0, free).reshape({-1});
+    }
+    return energy;
   };
 
   // dt^2 / m per coordinate: the inverse inertia Hessian. Massless (unreferenced) vertices get a unit scale.
@@ -135,8 +183,17 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
     torch::Tensor x = x_base.index_copy(0, free, q.detach().reshape({nf, 3}));
     torch::Tensor sum;
     for (const auto& term : terms) {
+      if (barrier && term->name() == "collision") continue;
       torch::Tensor c = term->contact_stiffness(x, state, cloth, contact);
       if (c.defined()) sum = sum.defined() ? sum + c : c;
+    }
+    if (barrier) {
+      Eigen::VectorXd curvature = Eigen::VectorXd::Zero(n);
+      barrier_potential(positions(q), barrier->cloth_edges, body, candidates, barrier->settings, nullptr, &curvature);
+      if (curvature.maxCoeff() > 0) {
+        torch::Tensor c = torch::from_blob(curvature.data(), {n}, torch::kFloat64).clone().to(opts);
+        sum = sum.defined() ? sum + c : c;
+      }
     }
     return sum.defined() ? sum.index_select(0, free) : sum;
   };
@@ -165,6 +222,19 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
         result.iterations >= config.max_iterations)
       break;
     double t = 1.0;
+    if (barrier) {
+      // Every pair the step can bring within d_hat, and the part of the step CCD certifies.
+      // A step moves no vertex more than max_contact_step: the broad phase stays local and
+      // CCD has few pairs to clear (a large quasi-Newton step is taken over several iterations).
+      const Eigen::MatrixXd X = positions(q);
+      Eigen::MatrixXd D = positions(q + d) - X;
+      const double longest = D.rowwise().norm().maxCoeff();
+      if (longest > kMaxContactStep) D *= kMaxContactStep / longest;
+      candidates = contact_candidates(X, D, barrier->cloth_edges, body, {}, barrier->settings.d_hat);
+      t = max_safe_step(X, D, barrier->cloth_edges, body, {}, candidates);
+      if (!(t > 0)) break;  // pressed against the body along d: nothing left to take
+      if (longest > kMaxContactStep) t *= kMaxContactStep / longest;
+    }
     bool accepted = false;
     torch::Tensor q_new, g_new;
     double E_new = E;
@@ -190,6 +260,16 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
   }
 
   result.x_next = x_base.index_copy(0, free, q.reshape({nf, 3})).detach();
+  if (barrier)
+    result.min_distance = barrier_potential(positions(q), barrier->cloth_edges, body,
+                                            contact_candidates(positions(q), {}, barrier->cloth_edges, body, {},
+                                                               barrier->settings.d_hat),
+                                            barrier->settings)
+                              .min_distance;
+  if (barrier)
+    spdlog::debug("barrier step: {} iterations, {} evaluations, {} candidate pairs last, min distance {:.3g} mm, {:.0f} ms",
+                  result.iterations, result.evaluations, candidates.size(), 1e3 * result.min_distance,
+                  ms_since(start_time));
   result.energy = E;
   result.gradient_norm = nf ? g.abs().max().item<double>() : 0.0;
   result.step_norm = step_norm;
@@ -197,10 +277,32 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
   return result;
 }
 
+std::optional<BarrierStepInput> barrier_step_input(const FrameState& state, const ClothGeometry& cloth,
+                                                   const ReferenceSolverConfig& config) {
+  if (config.contact != "barrier" || !state.effects.collision || !state.body.defined()) return std::nullopt;
+  auto rows_of = [](const torch::Tensor& faces) {
+    torch::Tensor f = faces.to(torch::kCPU, torch::kInt64).contiguous();
+    return Eigen::Map<const Eigen::Matrix<int64_t, Eigen::Dynamic, 3, Eigen::RowMajor>>(f.data_ptr<int64_t>(),
+                                                                                         f.size(0), 3)
+        .cast<int>()
+        .eval();
+  };
+  BarrierStepInput input;
+  input.body_t = tensor_to_matrix(state.body.vertices);
+  input.body_next = tensor_to_matrix(state.body.next_vertices);
+  input.body_faces = rows_of(state.body.faces);
+  input.cloth_edges = unique_edges(rows_of(cloth.faces));
+  input.settings.d_hat = config.barrier_distance;
+  input.settings.stiffness = config.barrier_stiffness;
+  return input;
+}
+
 SolverResult solve_reference_frame(const FrameState& state, const ClothGeometry& cloth,
                                    const TermList& terms, const PhysicsConfig& config) {
   std::optional<BodyContact> contact = body_contact_for(state, config);
-  return solve_reference_step(state, cloth, terms, contact ? &*contact : nullptr, config.solver);
+  const std::optional<BarrierStepInput> barrier = barrier_step_input(state, cloth, config.solver);
+  return solve_reference_step(state, cloth, terms, contact ? &*contact : nullptr, config.solver,
+                              barrier ? &*barrier : nullptr);
 }
 
 }  // namespace pb4u

@@ -1,5 +1,7 @@
 #include "pb4u/rollout/rollout.h"
 
+#include <spdlog/spdlog.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -71,7 +73,13 @@ StepFunction network_stepper(const ModelFile& model, const GarmentTopology& topo
 StepFunction reference_stepper(const ReferenceSolverConfig& solver) {
   return [solver](const FrameState& state, const ClothGeometry& cloth, const TermList& terms,
                   const BodyContact* contact) {
-    return solve_reference_step(state, cloth, terms, contact, solver).x_next.to(torch::kFloat64);
+    const std::optional<BarrierStepInput> barrier = barrier_step_input(state, cloth, solver);
+    const SolverResult r = solve_reference_step(state, cloth, terms, contact, solver, barrier ? &*barrier : nullptr);
+    if (r.body_progress < 1)
+      spdlog::warn("reference solver: the body's motion left the cloth no intersection-free room; this step was "
+                   "solved against the body at {:.0f}% of its motion",
+                   100 * r.body_progress);
+    return r.x_next.to(torch::kFloat64);
   };
 }
 

@@ -12,6 +12,7 @@ enum class TriangleFeature { interior, edge_ab, edge_bc, edge_ca, corner_a, corn
 struct ClosestPointOnTriangle {
   Eigen::Vector3d point;    // m
   TriangleFeature feature;
+  Eigen::Vector3d weights;  // barycentric weights of a, b, c: point = w0 a + w1 b + w2 c
 };
 
 // The point of triangle (a, b, c) nearest to p (all in m). A degenerate triangle is handled

@@ -57,6 +57,13 @@ struct ReferenceSolverConfig {
   // Initial inverse Hessian of L-BFGS: "elastic" = inertia + rest membrane stiffness,
   // factorised once per frame (see quasi_newton_hessian.h); "inertia" = dt^2 / m only.
   std::string initial_hessian = "elastic";
+  // Body contact: "penalty" = SPEC 3.3's plane term (it stops paying once a vertex is past the
+  // plane of its nearest face); "barrier" = intersection-free contact: IPC's log barrier on
+  // vertex-face and edge-edge distances with every line-search step filtered by CCD, from a
+  // start made intersection-free (intersection_free_start.h).
+  std::string contact = "penalty";
+  double barrier_distance = 1e-3;   // m: d_hat, where the barrier starts to act
+  double barrier_stiffness = 10;    // J/m^2: kappa
 
   template <class V>
   void visit(V& v) {
@@ -66,6 +73,9 @@ struct ReferenceSolverConfig {
     v("max_line_search_steps", max_line_search_steps, int_at_least(1));
     v("armijo", armijo, in_range(1e-8, 0.5));
     v("initial_hessian", initial_hessian, one_of({"elastic", "inertia"}));
+    v("contact", contact, one_of({"penalty", "barrier"}));
+    v("barrier_distance", barrier_distance, positive());
+    v("barrier_stiffness", barrier_stiffness, positive());
   }
 };
 

@@ -7,6 +7,12 @@
 // 50 iterations 8-17x against a mass-only start (docs/physics.md).
 #include <torch/torch.h>
 
+#include <Eigen/Core>
+
+#include <limits>
+#include <optional>
+
+#include "pb4u/physics/barrier_potential.h"
 #include "pb4u/physics/body_queries.h"
 #include "pb4u/physics/physics_term.h"
 
@@ -20,17 +26,38 @@ struct SolverResult {
   double gradient_norm = 0;  // N: max |dE/dx| over free coordinates at x_next
   double step_norm = 0;      // m: max |quasi-Newton step| at x_next (H^-1-scaled gradient)
   bool converged = false;    // step_norm <= step_tolerance
+  // Barrier contact only (1 / infinity / 0 otherwise):
+  double body_progress = 1;  // fraction of the body's motion the intersection-free start reached
+  double min_distance = std::numeric_limits<double>::infinity();  // m, cloth to body at x_next
+  int pushed_out = 0;        // vertices moved out of the body at t before the step
+};
+
+// The body of one step as intersection-free contact sees it: the body at t and t + dt, its
+// outward faces, the cloth's unique edges and the barrier.
+struct BarrierStepInput {
+  Eigen::MatrixXd body_t, body_next;
+  Eigen::MatrixXi body_faces, cloth_edges;
+  BarrierSettings settings;
 };
 
 // One frame. terms: build_terms(state.effects, ...); contact: body_contact_for(state, ...)
 // (null without a body). Pins apply when state.effects.pins and state.pinned is defined.
-// Starts from the ballistic prediction (plus g dt^2 with gravity on).
+// Starts from the ballistic prediction (plus g dt^2 with gravity on). With `barrier` (terms
+// then without the penalty collision term) the step is intersection-free: it starts from
+// intersection_free_start() and every line-search step is cut to what CCD certifies.
 SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& cloth,
                                   const TermList& terms, const BodyContact* contact,
-                                  const ReferenceSolverConfig& config);
+                                  const ReferenceSolverConfig& config,
+                                  const BarrierStepInput* barrier = nullptr);
+
+// The barrier input of a step when config.contact is barrier and the step's effects collide
+// with a body; std::nullopt otherwise (the penalty term then handles contact, if any).
+std::optional<BarrierStepInput> barrier_step_input(const FrameState& state, const ClothGeometry& cloth,
+                                                   const ReferenceSolverConfig& config);
 
 // The same frame with the step's body contact computed from the state (none when its effects
 // need no body): what a rollout (`simulate --method reference`, `bench`) calls per frame.
+// config.solver.contact = barrier replaces the collision term by the barrier.
 SolverResult solve_reference_frame(const FrameState& state, const ClothGeometry& cloth,
                                    const TermList& terms, const PhysicsConfig& config);
 

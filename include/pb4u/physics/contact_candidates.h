@@ -1,0 +1,35 @@
+#pragma once
+// The broad phase of intersection-free contact: which cloth-vertex / body-face and
+// cloth-edge / body-edge pairs can come within a distance of each other during a step. Only
+// candidates: the narrow phase (primitive_distance.h, additive_ccd.h) decides. KD-trees over
+// the body's face centroids and edge midpoints (spatial/point_kd_tree.h), queried with radii
+// grown by the motion of the step, so no pair that can meet is missed.
+#include <Eigen/Core>
+
+#include <array>
+#include <vector>
+
+namespace pb4u {
+
+// A body surface as contact sees it: vertices (nb x 3, m), outward faces (mb x 3) and its
+// unique edges (eb x 2).
+struct ContactSurface {
+  Eigen::MatrixXd V;
+  Eigen::MatrixXi F, E;
+};
+ContactSurface make_contact_surface(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F);
+
+struct ContactCandidates {
+  std::vector<std::array<int, 2>> vertex_face;  // (cloth vertex, body face)
+  std::vector<std::array<int, 2>> edge_edge;    // (cloth edge row, body edge row)
+  size_t size() const { return vertex_face.size() + edge_edge.size(); }
+};
+
+// Pairs that may come within `distance` (m) of each other while the cloth x (n x 3) moves by
+// dx (n x 3, or empty: still) and the body by body_motion (nb x 3, or empty: still).
+// cloth_edges: e x 2 vertex rows of x.
+ContactCandidates contact_candidates(const Eigen::MatrixXd& x, const Eigen::MatrixXd& dx,
+                                     const Eigen::MatrixXi& cloth_edges, const ContactSurface& body,
+                                     const Eigen::MatrixXd& body_motion, double distance);
+
+}  // namespace pb4u

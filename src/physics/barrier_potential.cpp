@@ -1,0 +1,120 @@
+#include "pb4u/physics/barrier_potential.h"
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "pb4u/physics/additive_ccd.h"
+#include "pb4u/physics/barrier.h"
+#include "pb4u/physics/primitive_distance.h"
+
+namespace pb4u {
+namespace {
+
+Eigen::Vector3d row3(const Eigen::MatrixXd& M, int i) { return M.row(i).transpose(); }
+
+// Whether segment (p, q) crosses triangle (a, b, c), endpoints on it included (Moller-Trumbore).
+bool segment_crosses_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& q, const Eigen::Vector3d& a,
+                              const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+  const Eigen::Vector3d dir = q - p, e1 = b - a, e2 = c - a, h = dir.cross(e2);
+  const double det = e1.dot(h);
+  if (std::abs(det) < 1e-300) return false;  // parallel: it cannot pass through the interior
+  const double inv = 1 / det;
+  const Eigen::Vector3d s = p - a;
+  const double u = inv * s.dot(h);
+  if (u < 0 || u > 1) return false;
+  const Eigen::Vector3d qv = s.cross(e1);
+  const double v = inv * dir.dot(qv);
+  if (v < 0 || u + v > 1) return false;
+  const double t = inv * e2.dot(qv);
+  return t >= 0 && t <= 1;
+}
+
+}  // namespace
+
+BarrierValue barrier_potential(const Eigen::MatrixXd& x, const Eigen::MatrixXi& cloth_edges,
+                               const ContactSurface& body, const ContactCandidates& candidates,
+                               const BarrierSettings& s, Eigen::MatrixXd* gradient,
+                               Eigen::VectorXd* curvature) {
+  BarrierValue out;
+  out.min_distance = std::numeric_limits<double>::infinity();
+  auto add = [&](const PrimitiveDistance& d, int cloth_a, int cloth_b, bool edge) {
+    out.min_distance = std::min(out.min_distance, d.distance);
+    if (d.distance >= s.d_hat) return;
+    ++out.active;
+    out.energy += s.stiffness * barrier(d.distance, s.d_hat);
+    if (curvature) {
+      const double k = s.stiffness * barrier_second_derivative(d.distance, s.d_hat);
+      (*curvature)(cloth_a) += k * d.gradient.segment<3>(0).squaredNorm();
+      if (edge) (*curvature)(cloth_b) += k * d.gradient.segment<3>(3).squaredNorm();
+    }
+    if (!gradient) return;
+    const double scale = s.stiffness * barrier_derivative(d.distance, s.d_hat);
+    // Only the cloth's points move in the solve: the gradient of the first one (vertex) or two
+    // (edge) of the four points.
+    gradient->row(cloth_a) += scale * d.gradient.segment<3>(0).transpose();
+    if (edge) gradient->row(cloth_b) += scale * d.gradient.segment<3>(3).transpose();
+  };
+  for (const auto& [v, f] : candidates.vertex_face)
+    add(point_triangle_distance(row3(x, v), row3(body.V, body.F(f, 0)), row3(body.V, body.F(f, 1)),
+                                row3(body.V, body.F(f, 2))),
+        v, -1, false);
+  for (const auto& [e, be] : candidates.edge_edge) {
+    const int a = cloth_edges(e, 0), b = cloth_edges(e, 1);
+    add(edge_edge_distance(row3(x, a), row3(x, b), row3(body.V, body.E(be, 0)), row3(body.V, body.E(be, 1))), a, b,
+        true);
+  }
+  if (out.min_distance <= 0) out.energy = std::numeric_limits<double>::infinity();
+  return out;
+}
+
+double max_safe_step(const Eigen::MatrixXd& x, const Eigen::MatrixXd& dx, const Eigen::MatrixXi& cloth_edges,
+                     const ContactSurface& body, const Eigen::MatrixXd& body_motion,
+                     const ContactCandidates& candidates) {
+  const Eigen::Vector3d zero = Eigen::Vector3d::Zero();
+  auto cloth_step = [&](int i) { return dx.rows() ? row3(dx, i) : zero; };
+  auto body_step = [&](int j) { return body_motion.rows() ? row3(body_motion, j) : zero; };
+  AdditiveCcdOptions options;
+  for (const auto& [v, f] : candidates.vertex_face) {
+    const int a = body.F(f, 0), b = body.F(f, 1), c = body.F(f, 2);
+    options.t_max = std::min(options.t_max,
+                             point_triangle_ccd(row3(x, v), row3(body.V, a), row3(body.V, b), row3(body.V, c),
+                                                cloth_step(v), body_step(a), body_step(b), body_step(c), options));
+    if (options.t_max <= 0) return 0;
+  }
+  for (const auto& [e, be] : candidates.edge_edge) {
+    const int a = cloth_edges(e, 0), b = cloth_edges(e, 1), c = body.E(be, 0), d = body.E(be, 1);
+    options.t_max = std::min(options.t_max,
+                             edge_edge_ccd(row3(x, a), row3(x, b), row3(body.V, c), row3(body.V, d), cloth_step(a),
+                                           cloth_step(b), body_step(c), body_step(d), options));
+    if (options.t_max <= 0) return 0;
+  }
+  return options.t_max;
+}
+
+std::vector<int> cloth_edges_through_body(const Eigen::MatrixXd& x, const Eigen::MatrixXi& cloth_edges,
+                                          const ContactSurface& body) {
+  // A crossing point lies within half the edge of one of its ends: the faces near each end,
+  // at that radius, hold every face the edge can cross.
+  double half = 0;
+  for (Eigen::Index e = 0; e < cloth_edges.rows(); ++e)
+    half = std::max(half, (x.row(cloth_edges(e, 0)) - x.row(cloth_edges(e, 1))).norm() / 2);
+  const ContactCandidates near = contact_candidates(x, {}, Eigen::MatrixXi(), body, {}, half);
+  std::vector<std::vector<int>> faces_near(size_t(x.rows()));
+  for (const auto& [v, f] : near.vertex_face) faces_near[size_t(v)].push_back(f);
+  std::vector<int> through;
+  for (Eigen::Index e = 0; e < cloth_edges.rows(); ++e) {
+    const int a = cloth_edges(e, 0), b = cloth_edges(e, 1);
+    bool hit = false;
+    for (int end : {a, b})
+      for (int f : faces_near[size_t(end)])
+        hit = hit || segment_crosses_triangle(row3(x, a), row3(x, b), row3(body.V, body.F(f, 0)),
+                                              row3(body.V, body.F(f, 1)), row3(body.V, body.F(f, 2)));
+    if (hit) through.push_back(int(e));
+  }
+  return through;
+}
+
+}  // namespace pb4u
