@@ -384,10 +384,7 @@ using EvalJson = nlohmann::ordered_json;  // keys in the order written
 // A figure as JSON: rounded to 9 significant digits (what "%.9g" printed), so the shortest
 // round-trip form nlohmann writes has the same digits; non-finite values are null.
 EvalJson eval_json_figure(double v) {
-  if (!std::isfinite(v)) return nullptr;
-  char s[32];
-  std::snprintf(s, sizeof s, "%.9g", v);
-  return std::strtod(s, nullptr);
+  return std::isfinite(v) ? EvalJson(round_to_significant(v, 9)) : EvalJson(nullptr);
 }
 
 // "<row>": value for each row (null when absent); a sequence without a measured frame has

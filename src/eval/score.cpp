@@ -13,6 +13,7 @@
 #include "pb4u/rollout/rollout.h"
 #include "pb4u/util/eigen_tensor.h"
 #include "pb4u/util/error.h"
+#include "pb4u/util/number_format.h"
 
 namespace pb4u {
 
@@ -128,7 +129,7 @@ std::string score_json(const ScoreResult& r) {
   // A figure rounded to the 9 significant digits of the CSV (g9), so nlohmann's shortest
   // round-trip form has the same digits; non-finite values are null.
   auto figure = [](double v) {
-    return std::isfinite(v) ? Json(std::strtod(g9(v).c_str(), nullptr)) : Json(nullptr);
+    return std::isfinite(v) ? Json(round_to_significant(v, 9)) : Json(nullptr);
   };
   Json out = {{"frames", r.frames}, {"scored_frames", r.reports.size()}};
   Json& mean = out["mean"] = Json::object();

@@ -8,6 +8,7 @@
 
 #include "pb4u/util/atomic_file.h"
 #include "pb4u/util/error.h"
+#include "pb4u/util/number_format.h"
 
 namespace pb4u {
 namespace {
@@ -27,10 +28,7 @@ int64_t metrics_line_step(const std::string& line) {
 // A value rounded to 9 significant digits ("%.9g"), so nlohmann's shortest round-trip form has
 // the same digits; non-finite values are null (JSON has no NaN).
 MetricsJson metric_figure(double v) {
-  if (!std::isfinite(v)) return nullptr;
-  char s[32];
-  std::snprintf(s, sizeof s, "%.9g", v);
-  return std::strtod(s, nullptr);
+  return std::isfinite(v) ? MetricsJson(round_to_significant(v, 9)) : MetricsJson(nullptr);
 }
 
 }  // namespace

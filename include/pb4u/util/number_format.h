@@ -2,6 +2,7 @@
 // Numbers as text for tables and CSVs: printf's %.*E and %.*f.
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <string>
 
 namespace pb4u {
@@ -20,6 +21,15 @@ inline std::string significant(double v, int digits, const char* non_finite) {
   char s[40];
   std::snprintf(s, sizeof s, "%.*g", digits, v);
   return s;
+}
+
+// v rounded to `digits` significant digits: what %.*g prints, read back (NaN and infinities
+// unchanged). A figure put into JSON this way keeps the digits the tables show.
+inline double round_to_significant(double v, int digits) {
+  if (!std::isfinite(v)) return v;
+  char s[40];
+  std::snprintf(s, sizeof s, "%.*g", digits, v);
+  return std::strtod(s, nullptr);
 }
 
 // v with `digits` after the point: fixed(3.14159, 2) = "3.14".
