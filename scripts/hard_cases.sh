@@ -1,12 +1,22 @@
 #!/usr/bin/env bash
-# The hard-case suite (tests/hard, ctest label `hard`) at a larger size: meshes SCALE times
-# finer and rollouts SCALE times longer than in CI (4000 frames for the long rollout at 4).
-# Usage: scripts/hard_cases.sh [SCALE=4] [gtest filter]
-# Prints one "[hard] case / method: frames, vertices, max stretch, max total energy, max speed,
-# seconds" line per rollout and gtest's verdict.
+# The hard-case suite (tests/hard, ctest label `hard`) outside ctest.
+# Usage:
+#   scripts/hard_cases.sh [SCALE=4] [gtest filter]   meshes SCALE times finer and rollouts SCALE
+#                                                     times longer than in CI (4000 frames for the
+#                                                     long rollout at 4)
+#   scripts/hard_cases.sh --known-gaps [SCALE=1]      the cases the shipped model does not meet yet
+#                                                     (tests/hard/known_gaps.txt; ctest leaves them
+#                                                     out): their figures and gtest's verdict
+# Prints one "[hard] ..." line per figure and gtest's verdict; exits non-zero when a case fails.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-SCALE=${1:-4}
-FILTER=${2:-*}
-ninja -C build hard_tests pb4u >/dev/null
-PB4U_HARD_SCALE=$SCALE build/tests/hard_tests --gtest_filter="$FILTER" --gtest_color=no
+BUILD=${PB4U_BUILD_DIR:-build}
+if [ "${1:-}" = "--known-gaps" ]; then
+  SCALE=${2:-1}
+  FILTER=$(grep -E '^[A-Za-z]' tests/hard/known_gaps.txt | paste -sd: -)
+else
+  SCALE=${1:-4}
+  FILTER=${2:-*}
+fi
+cmake --build "$BUILD" --target hard_tests pb4u >/dev/null
+PB4U_HARD_SCALE=$SCALE "$BUILD/tests/hard_tests" --gtest_filter="$FILTER" --gtest_color=no
