@@ -68,8 +68,7 @@ ProjectionSurface::ProjectionSurface(const BodyFrame& body)
     : ProjectionSurface(tensor_to_matrix(body.next_vertices.to(torch::kCPU, torch::kFloat64)), body.faces) {}
 
 ProjectionSurface::ProjectionSurface(const Eigen::MatrixXd& V, const torch::Tensor& faces)
-    : query_(V, Eigen::Map<const Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>>(
-                    faces.to(torch::kCPU, torch::kInt32).contiguous().data_ptr<int>(), faces.size(0), 3)),
+    : query_(V, index_tensor_to_matrix(faces)),
       lower_(V.colwise().minCoeff()),
       upper_(V.colwise().maxCoeff()) {}
 

@@ -36,8 +36,8 @@ FeasibleStart intersection_free_start(const Eigen::MatrixXd& x_t, const Eigen::M
   // 1. Free of the body at t: what is inside or within d_hat goes to d_hat outside. An edge
   //    whose ends are both outside can still cut through the body (a chord of a convex part):
   //    its ends go further out, twice as far each round, until no edge crosses.
+  ContactSurface body = make_contact_surface(body_t, body_faces);  // moves with the sweep below
   {
-    const ContactSurface at_t = make_contact_surface(body_t, body_faces);
     std::vector<char> moved(size_t(n), 0);
     double offset = d_hat;
     std::vector<char> push(size_t(n), 0);
@@ -51,16 +51,16 @@ FeasibleStart intersection_free_start(const Eigen::MatrixXd& x_t, const Eigen::M
           any = true;
         }
       std::fill(push.begin(), push.end(), 0);
-      for (int e : cloth_edges_through_body(out.x, cloth_edges, at_t))
-        push[size_t(cloth_edges(e, 0))] = push[size_t(cloth_edges(e, 1))] = 1;
-      if (!any && std::find(push.begin(), push.end(), 1) == push.end()) break;
+      const std::vector<int> through = cloth_edges_through_body(out.x, cloth_edges, body);
+      for (int e : through) push[size_t(cloth_edges(e, 0))] = push[size_t(cloth_edges(e, 1))] = 1;
+      // The edges through the body after this round's moves: what is left if the rounds run out.
+      out.edges_through = int(through.size());
+      if (!any && through.empty()) break;
     }
     out.pushed_out = int(std::count(moved.begin(), moved.end(), 1));
-    out.edges_through = int(cloth_edges_through_body(out.x, cloth_edges, at_t).size());
   }
   // 2. The body from t to t + dt, carrying the cloth on it (each near vertex moves with its
   //    nearest body vertex), in fractions CCD certifies.
-  ContactSurface body = make_contact_surface(body_t, body_faces);
   const Eigen::MatrixXd motion = body_next - body_t;
   const PointKdTree body_points(body_t);  // nearest body vertex, looked up at t
   double progress = 0;

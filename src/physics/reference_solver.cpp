@@ -113,9 +113,9 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
   const auto start_time = std::chrono::steady_clock::now();
   if (barrier) {
     const Eigen::MatrixXd target = tensor_to_matrix(x_base);
-    torch::Tensor pinned_cpu = pinned.to(torch::kCPU);
-    std::vector<bool> held(static_cast<size_t>(n));
-    for (int64_t i = 0; i < n; ++i) held[size_t(i)] = pinned_cpu[i].item<bool>();
+    const torch::Tensor pinned_cpu = pinned.to(torch::kCPU).contiguous();
+    const bool* pinned_flags = pinned_cpu.data_ptr<bool>();
+    const std::vector<bool> held(pinned_flags, pinned_flags + n);
     FeasibleStart start = intersection_free_start(tensor_to_matrix(state.x), target, held, barrier->cloth_edges,
                                                   barrier->body_t, barrier->body_next, barrier->body_faces,
                                                   barrier->settings.d_hat);
@@ -224,7 +224,7 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
     double t = 1.0;
     if (barrier) {
       // Every pair the step can bring within d_hat, and the part of the step CCD certifies.
-      // A step moves no vertex more than max_contact_step: the broad phase stays local and
+      // A step moves no vertex more than kMaxContactStep: the broad phase stays local and
       // CCD has few pairs to clear (a large quasi-Newton step is taken over several iterations).
       const Eigen::MatrixXd X = positions(q);
       Eigen::MatrixXd D = positions(q + d) - X;
@@ -280,18 +280,11 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
 std::optional<BarrierStepInput> barrier_step_input(const FrameState& state, const ClothGeometry& cloth,
                                                    const ReferenceSolverConfig& config) {
   if (config.contact != "barrier" || !state.effects.collision || !state.body.defined()) return std::nullopt;
-  auto rows_of = [](const torch::Tensor& faces) {
-    torch::Tensor f = faces.to(torch::kCPU, torch::kInt64).contiguous();
-    return Eigen::Map<const Eigen::Matrix<int64_t, Eigen::Dynamic, 3, Eigen::RowMajor>>(f.data_ptr<int64_t>(),
-                                                                                         f.size(0), 3)
-        .cast<int>()
-        .eval();
-  };
   BarrierStepInput input;
   input.body_t = tensor_to_matrix(state.body.vertices);
   input.body_next = tensor_to_matrix(state.body.next_vertices);
-  input.body_faces = rows_of(state.body.faces);
-  input.cloth_edges = unique_edges(rows_of(cloth.faces));
+  input.body_faces = index_tensor_to_matrix(state.body.faces);
+  input.cloth_edges = unique_edges(index_tensor_to_matrix(cloth.faces));
   input.settings.d_hat = config.barrier_distance;
   input.settings.stiffness = config.barrier_stiffness;
   return input;

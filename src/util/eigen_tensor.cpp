@@ -17,6 +17,13 @@ torch::Tensor index_vector_to_tensor(const Eigen::VectorXi& v, torch::Device dev
   return torch::from_blob(r.data(), {r.size()}, torch::kInt64).to(device).clone();
 }
 
+Eigen::MatrixXi index_tensor_to_matrix(const torch::Tensor& t) {
+  auto c = t.detach().to(torch::kCPU, torch::kInt32).contiguous();
+  Eigen::Map<const Eigen::Matrix<int, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> m(c.data_ptr<int>(), c.size(0),
+                                                                                        c.size(1));
+  return m;
+}
+
 Eigen::MatrixXd tensor_to_matrix(const torch::Tensor& t) {
   auto c = t.detach().to(torch::kCPU, torch::kFloat64).contiguous();
   Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> m(

@@ -17,6 +17,9 @@ torch::Tensor index_matrix_to_tensor(const Eigen::MatrixXi& m, torch::Device dev
 // (n) int64 tensor of an index vector, on `device`.
 torch::Tensor index_vector_to_tensor(const Eigen::VectorXi& v, torch::Device device = torch::kCPU);
 
+// A 2-D integer tensor (faces, edges) of any device as an int Eigen matrix.
+Eigen::MatrixXi index_tensor_to_matrix(const torch::Tensor& t);
+
 // A 2-D tensor of any float dtype / device as a float64 Eigen matrix.
 Eigen::MatrixXd tensor_to_matrix(const torch::Tensor& t);
 
