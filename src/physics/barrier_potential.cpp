@@ -13,8 +13,6 @@
 namespace pb4u {
 namespace {
 
-Eigen::Vector3d row3(const Eigen::MatrixXd& M, int i) { return M.row(i).transpose(); }
-
 // Whether segment (p, q) crosses triangle (a, b, c), endpoints on it included (Moller-Trumbore).
 bool segment_crosses_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& q, const Eigen::Vector3d& a,
                               const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
@@ -58,13 +56,14 @@ BarrierValue barrier_potential(const Eigen::MatrixXd& x, const Eigen::MatrixXi& 
     if (edge) gradient->row(cloth_b) += scale * d.gradient.segment<3>(3).transpose();
   };
   for (const auto& [v, f] : candidates.vertex_face)
-    add(point_triangle_distance(row3(x, v), row3(body.V, body.F(f, 0)), row3(body.V, body.F(f, 1)),
-                                row3(body.V, body.F(f, 2))),
+    add(point_triangle_distance(point_row(x, v), point_row(body.V, body.F(f, 0)), point_row(body.V, body.F(f, 1)),
+                                point_row(body.V, body.F(f, 2))),
         v, -1, false);
   for (const auto& [e, be] : candidates.edge_edge) {
     const int a = cloth_edges(e, 0), b = cloth_edges(e, 1);
-    add(edge_edge_distance(row3(x, a), row3(x, b), row3(body.V, body.E(be, 0)), row3(body.V, body.E(be, 1))), a, b,
-        true);
+    add(edge_edge_distance(point_row(x, a), point_row(x, b), point_row(body.V, body.E(be, 0)),
+                           point_row(body.V, body.E(be, 1))),
+        a, b, true);
   }
   if (out.min_distance <= 0) out.energy = std::numeric_limits<double>::infinity();
   return out;
@@ -74,20 +73,20 @@ double max_safe_step(const Eigen::MatrixXd& x, const Eigen::MatrixXd& dx, const 
                      const ContactSurface& body, const Eigen::MatrixXd& body_motion,
                      const ContactCandidates& candidates) {
   const Eigen::Vector3d zero = Eigen::Vector3d::Zero();
-  auto cloth_step = [&](int i) { return dx.rows() ? row3(dx, i) : zero; };
-  auto body_step = [&](int j) { return body_motion.rows() ? row3(body_motion, j) : zero; };
+  auto cloth_step = [&](int i) { return dx.rows() ? point_row(dx, i) : zero; };
+  auto body_step = [&](int j) { return body_motion.rows() ? point_row(body_motion, j) : zero; };
   AdditiveCcdOptions options;
   for (const auto& [v, f] : candidates.vertex_face) {
     const int a = body.F(f, 0), b = body.F(f, 1), c = body.F(f, 2);
     options.t_max = std::min(options.t_max,
-                             point_triangle_ccd(row3(x, v), row3(body.V, a), row3(body.V, b), row3(body.V, c),
+                             point_triangle_ccd(point_row(x, v), point_row(body.V, a), point_row(body.V, b), point_row(body.V, c),
                                                 cloth_step(v), body_step(a), body_step(b), body_step(c), options));
     if (options.t_max <= 0) return 0;
   }
   for (const auto& [e, be] : candidates.edge_edge) {
     const int a = cloth_edges(e, 0), b = cloth_edges(e, 1), c = body.E(be, 0), d = body.E(be, 1);
     options.t_max = std::min(options.t_max,
-                             edge_edge_ccd(row3(x, a), row3(x, b), row3(body.V, c), row3(body.V, d), cloth_step(a),
+                             edge_edge_ccd(point_row(x, a), point_row(x, b), point_row(body.V, c), point_row(body.V, d), cloth_step(a),
                                            cloth_step(b), body_step(c), body_step(d), options));
     if (options.t_max <= 0) return 0;
   }
@@ -110,8 +109,8 @@ std::vector<int> cloth_edges_through_body(const Eigen::MatrixXd& x, const Eigen:
     bool hit = false;
     for (int end : {a, b})
       for (int f : faces_near[size_t(end)])
-        hit = hit || segment_crosses_triangle(row3(x, a), row3(x, b), row3(body.V, body.F(f, 0)),
-                                              row3(body.V, body.F(f, 1)), row3(body.V, body.F(f, 2)));
+        hit = hit || segment_crosses_triangle(point_row(x, a), point_row(x, b), point_row(body.V, body.F(f, 0)),
+                                              point_row(body.V, body.F(f, 1)), point_row(body.V, body.F(f, 2)));
     if (hit) through.push_back(int(e));
   }
   return through;

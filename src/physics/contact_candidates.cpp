@@ -92,4 +92,18 @@ ContactCandidates contact_candidates(const Eigen::MatrixXd& x, const Eigen::Matr
   return out;
 }
 
+void drop_pairs_of(const std::vector<char>& excluded, const Eigen::MatrixXi& cloth_edges,
+                   ContactCandidates* candidates) {
+  if (std::find(excluded.begin(), excluded.end(), 1) == excluded.end()) return;
+  auto& vf = candidates->vertex_face;
+  vf.erase(std::remove_if(vf.begin(), vf.end(), [&](const std::array<int, 2>& p) { return excluded[size_t(p[0])]; }),
+           vf.end());
+  auto& ee = candidates->edge_edge;
+  ee.erase(std::remove_if(ee.begin(), ee.end(),
+                          [&](const std::array<int, 2>& p) {
+                            return excluded[size_t(cloth_edges(p[0], 0))] || excluded[size_t(cloth_edges(p[0], 1))];
+                          }),
+           ee.end());
+}
+
 }  // namespace pb4u

@@ -3,87 +3,80 @@
 #include <algorithm>
 
 #include "pb4u/physics/barrier_potential.h"
-#include "pb4u/spatial/point_kd_tree.h"
+#include "pb4u/physics/primitive_distance.h"
 #include "pb4u/spatial/signed_distance_to_surface.h"
 
 namespace pb4u {
 namespace {
 
-constexpr int kMaxSweepRounds = 64;
-// Rounds of pushing edges that cut through the body at t further out (the offset doubles).
-constexpr int kMaxPushRounds = 16;
-// The sweep carries cloth vertices within this many d_hat of the body along with it.
-constexpr double kCarryReach = 20;
-
-// Moves the cloth by t * dx and returns the fraction of dx taken: as much of it as CCD allows.
-double safe_move(Eigen::MatrixXd& x, const Eigen::MatrixXd& dx, const Eigen::MatrixXi& cloth_edges,
-                 const ContactSurface& body, const Eigen::MatrixXd& body_motion) {
-  const ContactCandidates c = contact_candidates(x, dx, cloth_edges, body, body_motion, 0.0);
-  const double t = max_safe_step(x, dx, cloth_edges, body, body_motion, c);
-  x += t * dx;
-  return t;
-}
+// Rounds of pushing the ends of edges that cut through the body further out (the offset
+// doubles: d_hat x 1, 2, 4, 8, 16).
+constexpr int kMaxPushRounds = 5;
+// Vertices closer than this fraction of d_hat to the body are pushed out to d_hat; pairs
+// closer than kTouching x d_hat after the push-out exclude their cloth vertices.
+constexpr double kPushBelow = 0.1;
+constexpr double kTouching = 1e-2;
 
 }  // namespace
 
+std::vector<char> vertices_not_free_of(const Eigen::MatrixXd& x, const Eigen::MatrixXi& cloth_edges,
+                                       const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, double d_hat) {
+  const ContactSurface body = make_contact_surface(V, F);
+  std::vector<char> out(size_t(x.rows()), 0);
+  const Eigen::VectorXd signed_distance = project_onto_surface(x, V, F).distance;
+  for (Eigen::Index i = 0; i < x.rows(); ++i)
+    if (signed_distance(i) < 0) out[size_t(i)] = 1;
+  for (int e : cloth_edges_through_body(x, cloth_edges, body)) out[size_t(cloth_edges(e, 0))] = out[size_t(cloth_edges(e, 1))] = 1;
+  const double touching = kTouching * d_hat;
+  const ContactCandidates near = contact_candidates(x, {}, cloth_edges, body, {}, touching);
+  for (const auto& [v, f] : near.vertex_face)
+    if (point_triangle_distance(point_row(x, v), point_row(V, F(f, 0)), point_row(V, F(f, 1)), point_row(V, F(f, 2)))
+            .distance < touching)
+      out[size_t(v)] = 1;
+  for (const auto& [e, be] : near.edge_edge) {
+    const int a = cloth_edges(e, 0), b = cloth_edges(e, 1);
+    if (edge_edge_distance(point_row(x, a), point_row(x, b), point_row(V, body.E(be, 0)), point_row(V, body.E(be, 1)))
+            .distance < touching)
+      out[size_t(a)] = out[size_t(b)] = 1;
+  }
+  return out;
+}
+
 FeasibleStart intersection_free_start(const Eigen::MatrixXd& x_t, const Eigen::MatrixXd& target,
-                                      const std::vector<bool>& pinned, const Eigen::MatrixXi& cloth_edges,
-                                      const Eigen::MatrixXd& body_t, const Eigen::MatrixXd& body_next,
+                                      const Eigen::MatrixXi& cloth_edges, const Eigen::MatrixXd& body_t,
                                       const Eigen::MatrixXi& body_faces, double d_hat) {
   FeasibleStart out;
   out.x = x_t;
   const Eigen::Index n = x_t.rows();
-  // 1. Free of the body at t: what is inside or within d_hat goes to d_hat outside. An edge
-  //    whose ends are both outside can still cut through the body (a chord of a convex part):
-  //    its ends go further out, twice as far each round, until no edge crosses.
-  ContactSurface body = make_contact_surface(body_t, body_faces);  // moves with the sweep below
-  {
-    std::vector<char> moved(size_t(n), 0);
-    double offset = d_hat;
-    std::vector<char> push(size_t(n), 0);
-    for (int round = 0; round < kMaxPushRounds; ++round, offset *= 2) {
-      const SurfaceProjection p = project_onto_surface(out.x, body_t, body_faces);
-      bool any = false;
-      for (Eigen::Index i = 0; i < n; ++i)
-        if (p.distance(i) < d_hat || push[size_t(i)]) {
-          out.x.row(i) = p.closest.row(i) + (std::max(p.distance(i), 0.0) + offset) * p.outward.row(i);
-          moved[size_t(i)] = 1;
-          any = true;
-        }
-      std::fill(push.begin(), push.end(), 0);
-      const std::vector<int> through = cloth_edges_through_body(out.x, cloth_edges, body);
-      for (int e : through) push[size_t(cloth_edges(e, 0))] = push[size_t(cloth_edges(e, 1))] = 1;
-      // The edges through the body after this round's moves: what is left if the rounds run out.
-      out.edges_through = int(through.size());
-      if (!any && through.empty()) break;
-    }
-    out.pushed_out = int(std::count(moved.begin(), moved.end(), 1));
-  }
-  // 2. The body from t to t + dt, carrying the cloth on it (each near vertex moves with its
-  //    nearest body vertex), in fractions CCD certifies.
-  const Eigen::MatrixXd motion = body_next - body_t;
-  const PointKdTree body_points(body_t);  // nearest body vertex, looked up at t
-  double progress = 0;
-  while (progress < 1 && out.sweep_rounds < kMaxSweepRounds) {
-    ++out.sweep_rounds;
-    const Eigen::MatrixXd remaining = (1 - progress) * motion;
-    const SurfaceProjection p = project_onto_surface(out.x, body.V, body.F);
-    Eigen::VectorXi nearest;
-    body_points.nearest(out.x, &nearest);
-    Eigen::MatrixXd carry = Eigen::MatrixXd::Zero(n, 3);
+  const ContactSurface body = make_contact_surface(body_t, body_faces);
+  std::vector<char> moved(size_t(n), 0), push(size_t(n), 0);
+  std::vector<int> through;
+  double offset = d_hat;
+  for (int round = 0; round < kMaxPushRounds; ++round, offset *= 2) {
+    const SurfaceProjection p = project_onto_surface(out.x, body_t, body_faces);
+    bool any = false;
     for (Eigen::Index i = 0; i < n; ++i)
-      if (!pinned[size_t(i)] && p.distance(i) < kCarryReach * d_hat) carry.row(i) = remaining.row(nearest(i));
-    const ContactCandidates c = contact_candidates(out.x, carry, cloth_edges, body, remaining, 0.0);
-    const double t = max_safe_step(out.x, carry, cloth_edges, body, remaining, c);
-    out.x += t * carry;
-    body.V += t * remaining;
-    progress += t * (1 - progress);
-    if (t >= 1) progress = 1;
+      if (p.distance(i) < kPushBelow * d_hat || push[size_t(i)]) {
+        out.x.row(i) = p.closest.row(i) + (std::max(p.distance(i), 0.0) + offset) * p.outward.row(i);
+        moved[size_t(i)] = 1;
+        any = true;
+      }
+    std::fill(push.begin(), push.end(), 0);
+    through = cloth_edges_through_body(out.x, cloth_edges, body);
+    for (int e : through) push[size_t(cloth_edges(e, 0))] = push[size_t(cloth_edges(e, 1))] = 1;
+    if (!any && through.empty()) break;
   }
-  out.body_progress = progress;
-  out.body = body.V;
-  // 3. Towards the target (pins included), as far as CCD allows.
-  out.target_progress = safe_move(out.x, target - out.x, cloth_edges, body, Eigen::MatrixXd());
+  out.pushed_out = int(std::count(moved.begin(), moved.end(), 1));
+  // What the rounds left (edges through the body, pairs touching it: a pushed edge can come to
+  // rest on a body edge) leaves contact.
+  out.excluded = vertices_not_free_of(out.x, cloth_edges, body_t, body_faces, d_hat);
+  out.excluded_count = int(std::count(out.excluded.begin(), out.excluded.end(), 1));
+  // Towards the target (pins included), as far as CCD allows.
+  const Eigen::MatrixXd dx = target - out.x;
+  ContactCandidates c = contact_candidates(out.x, dx, cloth_edges, body, {}, 0.0);
+  drop_pairs_of(out.excluded, cloth_edges, &c);
+  out.target_progress = max_safe_step(out.x, dx, cloth_edges, body, {}, c);
+  out.x += out.target_progress * dx;
   return out;
 }
 

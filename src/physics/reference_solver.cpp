@@ -9,6 +9,8 @@
 #include <functional>
 
 #include "pb4u/mesh/edges.h"
+#include "pb4u/physics/carried_by_body.h"
+#include "pb4u/physics/collision_energy.h"
 #include "pb4u/physics/energy_report.h"
 #include "pb4u/physics/intersection_free_start.h"
 #include "pb4u/physics/quasi_newton_hessian.h"
@@ -19,8 +21,15 @@
 namespace pb4u {
 namespace {
 
-// m: the longest move of a vertex in one line search of the intersection-free solve.
+// m: the longest move of a vertex (cloth or body) in one line search of the intersection-free solve.
 constexpr double kMaxContactStep = 5e-2;
+// CCD-certified body moves per step; a body not at its pose after them is placed there.
+constexpr int kMaxBodyMoves = 24;
+
+// A flat (3k) tensor from k x 3 rows.
+torch::Tensor as_flat(const Eigen::MatrixXd& rows, const torch::TensorOptions& opts) {
+  return matrix_to_tensor(rows, opts.dtype().toScalarType(), opts.device()).reshape({-1});
+}
 
 struct Pair {
   torch::Tensor s, y;
@@ -106,34 +115,58 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
   const int64_t nf = free.size(0);
 
   SolverResult result;
-  // Barrier contact: an intersection-free start (pins where it could bring them), the body
-  // where that start is free of it, and the candidate pairs of the current line search.
+  if (barrier && config.initial_hessian != "elastic")
+    throw Error("reference solver: solver.contact: barrier needs solver.initial_hessian: elastic");
+  // Barrier contact: the solve starts from an intersection-free cloth (pins where it could bring
+  // them) and the body at t. The body's motion to t + dt is a boundary condition (IPC's
+  // kinematic objects): each iteration first moves the body by what is left of it, the cloth it
+  // touches along with it (the Newton response to that motion), as far as CCD certifies; then
+  // one quasi-Newton step of the cloth against the body where it stands. Where the cloth leaves
+  // the body no room (pinched between two body parts) the body stops short: SolverResult::body_lag.
   ContactSurface body;
   ContactCandidates candidates;
+  std::vector<char> excluded;
   const auto start_time = std::chrono::steady_clock::now();
   if (barrier) {
-    const Eigen::MatrixXd target = tensor_to_matrix(x_base);
-    const torch::Tensor pinned_cpu = pinned.to(torch::kCPU).contiguous();
-    const bool* pinned_flags = pinned_cpu.data_ptr<bool>();
-    const std::vector<bool> held(pinned_flags, pinned_flags + n);
-    FeasibleStart start = intersection_free_start(tensor_to_matrix(state.x), target, held, barrier->cloth_edges,
-                                                  barrier->body_t, barrier->body_next, barrier->body_faces,
+    FeasibleStart start = intersection_free_start(tensor_to_matrix(state.x), tensor_to_matrix(x_base),
+                                                  barrier->cloth_edges, barrier->body_t, barrier->body_faces,
                                                   barrier->settings.d_hat);
-    if (start.edges_through > 0)
-      spdlog::warn("reference solver: {} cloth edges still cut through the body at t after pushing the cloth out",
-                   start.edges_through);
-    spdlog::debug("barrier start: {} pushed out, body swept to {:.3f} in {} rounds, target reached {:.3f}, {:.0f} ms",
-                  start.pushed_out, start.body_progress, start.sweep_rounds, start.target_progress,
-                  ms_since(start_time));
-    result.body_progress = start.body_progress;
+    spdlog::debug("barrier start: {} pushed out, {} excluded, target reached {:.3f}, {:.0f} ms", start.pushed_out,
+                  start.excluded_count, start.target_progress, ms_since(start_time));
     result.pushed_out = start.pushed_out;
-    body = make_contact_surface(start.body, barrier->body_faces);
+    result.excluded = start.excluded_count;
+    excluded = std::move(start.excluded);
+    body = make_contact_surface(barrier->body_t, barrier->body_faces);
     x_base = matrix_to_tensor(start.x, opts.dtype().toScalarType(), state.x.device());
     candidates = contact_candidates(start.x, {}, barrier->cloth_edges, body, {}, barrier->settings.d_hat);
+    drop_pairs_of(excluded, barrier->cloth_edges, &candidates);
   }
+  // The vertices the start left out of barrier contact fall back to the penalty term (SPEC 3.3)
+  // until a later step finds them a free place: never worse off than under the penalty solver.
+  const CollisionTerm* penalty = nullptr;
+  for (const auto& term : terms)
+    if (term->name() == "collision") penalty = dynamic_cast<const CollisionTerm*>(term.get());
+  torch::Tensor fallback_rows;
+  BodyContact fallback;
+  auto set_fallback = [&]() {
+    if (!barrier || !penalty || !contact) return;
+    std::vector<int64_t> rows;
+    for (size_t i = 0; i < excluded.size(); ++i)
+      if (excluded[i]) rows.push_back(int64_t(i));
+    if (rows.empty()) return;
+    fallback_rows = torch::tensor(rows, torch::kInt64).to(state.x.device());
+    fallback.point = contact->point.index_select(0, fallback_rows);
+    fallback.normal = contact->normal.index_select(0, fallback_rows);
+  };
+  set_fallback();
   auto positions = [&](const torch::Tensor& q) {
     return tensor_to_matrix(x_base.index_copy(0, free, q.detach().reshape({nf, 3})));
   };
+  std::vector<char> free_flags(size_t(n), 0);
+  {
+    const torch::Tensor free_cpu = free.to(torch::kCPU).contiguous();
+    for (int64_t k = 0; k < nf; ++k) free_flags[size_t(free_cpu.data_ptr<int64_t>()[k])] = 1;
+  }
   auto evaluate = [&](const torch::Tensor& q, torch::Tensor* grad) {
     torch::Tensor p = q.detach().reshape({nf, 3}).requires_grad_(true);
     torch::Tensor x = x_base.index_copy(0, free, p);
@@ -141,15 +174,15 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
     torch::Tensor E = torch::zeros({}, x.options());
     for (const auto& term : terms)
       if (!barrier || term->name() != "collision") E = E + term->energy(x, state, cloth, contact);
+    if (fallback_rows.defined())
+      E = E + collision_energy(x.index_select(0, fallback_rows), fallback, penalty->eps(), penalty->weight());
     *grad = torch::autograd::grad({E}, {p})[0].reshape({-1});
     ++result.evaluations;
     double energy = E.item<double>();
     if (barrier) {
       Eigen::MatrixXd G = Eigen::MatrixXd::Zero(n, 3);
-      const BarrierValue b = barrier_potential(positions(q), barrier->cloth_edges, body, candidates,
-                                               barrier->settings, &G);
-      energy += b.energy;
-      *grad += matrix_to_tensor(G, opts.dtype().toScalarType(), state.x.device()).index_select(0, free).reshape({-1});
+      energy += barrier_potential(positions(q), barrier->cloth_edges, body, candidates, barrier->settings, &G).energy;
+      *grad += as_flat(G, opts).reshape({n, 3}).index_select(0, free).reshape({-1});
     }
     return energy;
   };
@@ -187,6 +220,12 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
       torch::Tensor c = term->contact_stiffness(x, state, cloth, contact);
       if (c.defined()) sum = sum.defined() ? sum + c : c;
     }
+    if (fallback_rows.defined()) {
+      const torch::Tensor depth =
+          (penalty->eps() - ((x.index_select(0, fallback_rows) - fallback.point) * fallback.normal).sum(1)).clamp_min(0);
+      torch::Tensor c = torch::zeros({n}, opts).index_copy(0, fallback_rows, 6 * penalty->weight() * depth);
+      sum = sum.defined() ? sum + c : c;
+    }
     if (barrier) {
       Eigen::VectorXd curvature = Eigen::VectorXd::Zero(n);
       barrier_potential(positions(q), barrier->cloth_edges, body, candidates, barrier->settings, nullptr, &curvature);
@@ -204,11 +243,61 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
   double E = evaluate(q, &g);
   std::deque<Pair> history;
   double step_norm = 0;
+  // Where the cloth leaves the body no room (pinched between two body parts, or a body that
+  // intersects itself) the body is placed at its pose after kMaxBodyMoves tries, and the cloth
+  // it now cuts or holds leaves barrier contact for the penalty term (SolverResult::excluded).
+  auto place_body = [&](double left) {
+    body.V = barrier->body_next;
+    const std::vector<char> caught =
+        vertices_not_free_of(positions(q), barrier->cloth_edges, body.V, body.F, barrier->settings.d_hat);
+    for (size_t i = 0; i < caught.size(); ++i)
+      if (caught[i] && !excluded[i]) {
+        excluded[i] = 1;
+        ++result.excluded;
+        ++result.caught_by_body;
+      }
+    set_fallback();
+    candidates = contact_candidates(positions(q), {}, barrier->cloth_edges, body, {}, barrier->settings.d_hat);
+    drop_pairs_of(excluded, barrier->cloth_edges, &candidates);
+    result.body_lag = left;
+  };
+  auto body_left = [&]() { return (barrier->body_next - body.V).rowwise().norm().maxCoeff(); };
+  // The body's move of this iteration: what is left of its motion (capped), the cloth it
+  // touches carried along, both cut to what CCD certifies. False when nothing moved.
+  int body_moves = 0;
+  auto move_body = [&]() {
+    Eigen::MatrixXd DB = barrier->body_next - body.V;
+    const double left = DB.rowwise().norm().maxCoeff();
+    if (left <= 0) return false;
+    if (++body_moves > kMaxBodyMoves) {
+      place_body(left);
+      return true;
+    }
+    if (left > kMaxContactStep) DB *= kMaxContactStep / left;
+    const Eigen::MatrixXd X = positions(q);
+    Eigen::MatrixXd D = carried_by_body(X, barrier->cloth_edges, body, DB, excluded, barrier->settings.d_hat / 2);
+    for (Eigen::Index i = 0; i < n; ++i)
+      if (!free_flags[size_t(i)]) D.row(i).setZero();
+    candidates = contact_candidates(X, D, barrier->cloth_edges, body, DB, barrier->settings.d_hat);
+    drop_pairs_of(excluded, barrier->cloth_edges, &candidates);
+    const double t = max_safe_step(X, D, barrier->cloth_edges, body, DB, candidates);
+    if (!(t > 0)) return false;
+    // A full step lands exactly on the pose (no rounding left over).
+    body.V = (t >= 1 && left <= kMaxContactStep) ? barrier->body_next : Eigen::MatrixXd(body.V + t * DB);
+    q = q + t * as_flat(D, opts).reshape({n, 3}).index_select(0, free).reshape({-1});
+    return true;
+  };
   while (nf > 0) {
     if (elastic) {
       torch::Tensor c = contact_diagonal(q);
       if (!factorized || c.defined()) elastic->factorize(c);
       factorized = true;
+    }
+    bool body_moved = false;
+    if (barrier && move_body()) {
+      body_moved = true;
+      history.clear();  // the objective moved with the body
+      E = evaluate(q, &g);
     }
     torch::Tensor d = lbfgs_direction(g, history, initial);
     double slope = torch::dot(g, d).item<double>();
@@ -218,9 +307,15 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
       slope = torch::dot(g, d).item<double>();
     }
     step_norm = d.abs().max().item<double>();
-    if (step_norm <= config.step_tolerance || !(slope < 0) ||
-        result.iterations >= config.max_iterations)
-      break;
+    if (result.iterations >= config.max_iterations) break;
+    // Done when the cloth is at rest and the body at its pose (a body held up tries again).
+    const bool body_home = !barrier || body_left() <= 0;
+    if ((step_norm <= config.step_tolerance || !(slope < 0)) && !body_moved && body_home) break;
+    if (!body_home) body_moved = true;  // keep going: the next iteration moves or places the body
+    if (step_norm <= config.step_tolerance || !(slope < 0)) {
+      ++result.iterations;
+      continue;  // the cloth is at rest against the body where it stands: move the body on
+    }
     double t = 1.0;
     if (barrier) {
       // Every pair the step can bring within d_hat, and the part of the step CCD certifies.
@@ -231,8 +326,15 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
       const double longest = D.rowwise().norm().maxCoeff();
       if (longest > kMaxContactStep) D *= kMaxContactStep / longest;
       candidates = contact_candidates(X, D, barrier->cloth_edges, body, {}, barrier->settings.d_hat);
+      drop_pairs_of(excluded, barrier->cloth_edges, &candidates);
       t = max_safe_step(X, D, barrier->cloth_edges, body, {}, candidates);
-      if (!(t > 0)) break;  // pressed against the body along d: nothing left to take
+      if (!(t > 0)) {  // pressed against the body along d: nothing left to take
+        if (body_moved) {
+          ++result.iterations;
+          continue;
+        }
+        break;
+      }
       if (longest > kMaxContactStep) t *= kMaxContactStep / longest;
     }
     bool accepted = false;
@@ -246,7 +348,13 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
         break;
       }
     }
-    if (!accepted) break;  // no decrease left at this precision
+    if (!accepted) {
+      if (body_moved) {
+        ++result.iterations;
+        continue;
+      }
+      break;  // no decrease left at this precision
+    }
     torch::Tensor s = q_new - q, y = g_new - g;
     double sy = torch::dot(s, y).item<double>();
     if (sy > 0) {  // keep the inverse-Hessian estimate positive definite
@@ -259,17 +367,18 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
     ++result.iterations;
   }
 
+  if (barrier && body_left() > 0) place_body(body_left());  // the iterations ran out first
   result.x_next = x_base.index_copy(0, free, q.reshape({nf, 3})).detach();
-  if (barrier)
-    result.min_distance = barrier_potential(positions(q), barrier->cloth_edges, body,
-                                            contact_candidates(positions(q), {}, barrier->cloth_edges, body, {},
-                                                               barrier->settings.d_hat),
-                                            barrier->settings)
-                              .min_distance;
-  if (barrier)
-    spdlog::debug("barrier step: {} iterations, {} evaluations, {} candidate pairs last, min distance {:.3g} mm, {:.0f} ms",
+  if (barrier) {
+    const Eigen::MatrixXd X = positions(q);
+    ContactCandidates last = contact_candidates(X, {}, barrier->cloth_edges, body, {}, barrier->settings.d_hat);
+    drop_pairs_of(excluded, barrier->cloth_edges, &last);
+    result.min_distance = barrier_potential(X, barrier->cloth_edges, body, last, barrier->settings).min_distance;
+    spdlog::debug("barrier step: {} iterations, {} evaluations, {} candidate pairs last, min distance {:.3g} mm, "
+                  "body placed {:.3g} mm short, {:.0f} ms",
                   result.iterations, result.evaluations, candidates.size(), 1e3 * result.min_distance,
-                  ms_since(start_time));
+                  1e3 * result.body_lag, ms_since(start_time));
+  }
   result.energy = E;
   result.gradient_norm = nf ? g.abs().max().item<double>() : 0.0;
   result.step_norm = step_norm;

@@ -71,14 +71,20 @@ StepFunction network_stepper(const ModelFile& model, const GarmentTopology& topo
 }
 
 StepFunction reference_stepper(const ReferenceSolverConfig& solver) {
-  return [solver](const FrameState& state, const ClothGeometry& cloth, const TermList& terms,
-                  const BodyContact* contact) {
+  auto warned = std::make_shared<bool>(false);
+  return [solver, warned](const FrameState& state, const ClothGeometry& cloth, const TermList& terms,
+                          const BodyContact* contact) {
     const std::optional<BarrierStepInput> barrier = barrier_step_input(state, cloth, solver);
     const SolverResult r = solve_reference_step(state, cloth, terms, contact, solver, barrier ? &*barrier : nullptr);
-    if (r.body_progress < 1)
-      spdlog::warn("reference solver: the body's motion left the cloth no intersection-free room; this step was "
-                   "solved against the body at {:.0f}% of its motion",
-                   100 * r.body_progress);
+    if (r.excluded > 0) {
+      // Said once per rollout at the default level, every frame with -v.
+      const auto level = *warned ? spdlog::level::debug : spdlog::level::warn;
+      spdlog::log(level,
+                  "reference solver: {} cloth vertices found no intersection-free place ({} caught by the body, "
+                  "which was placed {:.1f} mm short of its pose): the penalty term holds them{}",
+                  r.excluded, r.caught_by_body, 1e3 * r.body_lag, *warned ? "" : " (each such frame is logged with -v)");
+      *warned = true;
+    }
     return r.x_next.to(torch::kFloat64);
   };
 }

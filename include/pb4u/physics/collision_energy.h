@@ -21,6 +21,7 @@ class CollisionTerm : public PhysicsTerm {
                                   const ClothGeometry& cloth,
                                   const BodyContact* contact) const override;
   double weight() const { return weight_; }
+  double eps() const { return eps_; }
 
  private:
   double eps_, weight_;

@@ -32,4 +32,9 @@ ContactCandidates contact_candidates(const Eigen::MatrixXd& x, const Eigen::Matr
                                      const Eigen::MatrixXi& cloth_edges, const ContactSurface& body,
                                      const Eigen::MatrixXd& body_motion, double distance);
 
+// The candidates without the pairs of excluded cloth vertices (excluded[i] != 0): their
+// vertex-face pairs and the edge-edge pairs of the edges they end.
+void drop_pairs_of(const std::vector<char>& excluded, const Eigen::MatrixXi& cloth_edges,
+                   ContactCandidates* candidates);
+
 }  // namespace pb4u

@@ -1,10 +1,16 @@
 #pragma once
 // Where an intersection-free step starts (IPC needs a start no pair of which touches): the
-// cloth at t made free of the body at t, then the body moved from its pose at t to its pose at
-// t + dt in CCD-certified fractions, carrying the cloth that lies on it, and finally a
-// CCD-certified move towards the step's target (the ballistic prediction). Where the body
-// leaves no room (it intersects itself, or pins hold the cloth in its way), the sweep stops
-// short and says how far it got: the step is then solved against the body where it stopped.
+// cloth at t made free of the body at t, then moved towards the step's target (the ballistic
+// prediction, pins at their targets) as far as CCD certifies. The body's own motion from t to
+// t + dt is left to the solve (reference_solver.h), which moves the body and the cloth together.
+//
+// Free of the body: vertices inside it, or closer than a tenth of d_hat, go d_hat outside; an
+// edge whose ends are both outside can still cut through the body (a chord across a hand), so
+// its ends go further out, twice as far each round. Where that finds no free place within a
+// few rounds (the cloth pinched between two body parts, a body that intersects itself), the
+// vertices of the edges still through the body, or touching it, are excluded from contact for
+// this step and counted: the step is intersection-free for every other vertex, and says how
+// many it left out.
 #include <Eigen/Core>
 
 #include <vector>
@@ -12,23 +18,23 @@
 namespace pb4u {
 
 struct FeasibleStart {
-  Eigen::MatrixXd x;           // n x 3 m: a start no candidate pair of which touches `body`
-  Eigen::MatrixXd body;        // nb x 3 m: the body pose the start is free against
-  double body_progress = 1;    // fraction of the body's motion from t to t + dt reached
-  double target_progress = 1;  // fraction of the move towards the target reached
-  int pushed_out = 0;          // vertices inside (or within d_hat of) the body at t, moved out
-  int edges_through = 0;       // cloth edges still through the body at t after the push-out
-                               // (its rounds ran out): then no start is intersection-free
-  int sweep_rounds = 0;
+  Eigen::MatrixXd x;            // n x 3 m: no candidate pair of a vertex not excluded touches the body
+  std::vector<char> excluded;   // per cloth vertex: 1 where no free place was found (out of contact)
+  int excluded_count = 0;
+  int pushed_out = 0;           // vertices moved out of the body at t (inside or touching it)
+  double target_progress = 1;   // fraction of the move towards the target reached
 };
 
-// x_t: cloth at t (n x 3); target: where the step would start without contact (ballistic
-// prediction, pins at their targets); pinned: per vertex, held at its target. body_t /
-// body_next: the body at t and t + dt (nb x 3) with outward faces body_faces. d_hat: the
-// barrier's reach (m); vertices closer than it to the body at t are pushed out to it first.
+// Per cloth vertex, 1 where it is not free of the body (V, outward faces F): inside it, ending
+// a cloth edge through it, or closer than a hundredth of d_hat in a vertex-face or edge-edge
+// pair (rounding cannot tell such a pair's side).
+std::vector<char> vertices_not_free_of(const Eigen::MatrixXd& x, const Eigen::MatrixXi& cloth_edges,
+                                       const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, double d_hat);
+
+// x_t: cloth at t (n x 3); target: where the step would start without contact (n x 3);
+// body_t: the body at t (nb x 3) with outward faces body_faces; d_hat: the barrier's reach (m).
 FeasibleStart intersection_free_start(const Eigen::MatrixXd& x_t, const Eigen::MatrixXd& target,
-                                      const std::vector<bool>& pinned, const Eigen::MatrixXi& cloth_edges,
-                                      const Eigen::MatrixXd& body_t, const Eigen::MatrixXd& body_next,
+                                      const Eigen::MatrixXi& cloth_edges, const Eigen::MatrixXd& body_t,
                                       const Eigen::MatrixXi& body_faces, double d_hat);
 
 }  // namespace pb4u

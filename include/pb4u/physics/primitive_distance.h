@@ -17,6 +17,9 @@ struct PrimitiveDistance {
                                          // difference): p - (triangle point), or pa - pb
 };
 
+// Row i of an m x 3 point matrix as a point.
+inline Eigen::Vector3d point_row(const Eigen::MatrixXd& points, int i) { return points.row(i).transpose(); }
+
 // Vertex p and triangle (a, b, c), in that order in the gradient.
 PrimitiveDistance point_triangle_distance(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
                                           const Eigen::Vector3d& b, const Eigen::Vector3d& c);

@@ -26,10 +26,15 @@ struct SolverResult {
   double gradient_norm = 0;  // N: max |dE/dx| over free coordinates at x_next
   double step_norm = 0;      // m: max |quasi-Newton step| at x_next (H^-1-scaled gradient)
   bool converged = false;    // step_norm <= step_tolerance
-  // Barrier contact only (1 / infinity / 0 otherwise):
-  double body_progress = 1;  // fraction of the body's motion the intersection-free start reached
+  // Barrier contact only (0 / infinity / 0 / 0 otherwise):
+  double body_lag = 0;       // m: how far the body still was from its pose at t + dt when the
+                             // cloth left it no room and it was placed there (0: it got there)
   double min_distance = std::numeric_limits<double>::infinity();  // m, cloth to body at x_next
+                             // over the vertices in contact (the excluded ones left out)
   int pushed_out = 0;        // vertices moved out of the body at t before the step
+  int excluded = 0;          // vertices left out of barrier contact this step (the penalty term
+                             // holds them): no free place at the start (intersection_free_start.h),
+  int caught_by_body = 0;    // or, of those, cut or held by the body placed at its pose
 };
 
 // The body of one step as intersection-free contact sees it: the body at t and t + dt, its
@@ -44,7 +49,10 @@ struct BarrierStepInput {
 // (null without a body). Pins apply when state.effects.pins and state.pinned is defined.
 // Starts from the ballistic prediction (plus g dt^2 with gravity on). With `barrier` (terms
 // then without the penalty collision term) the step is intersection-free: it starts from
-// intersection_free_start() and every line-search step is cut to what CCD certifies.
+// intersection_free_start(); the body moves to its pose at t + dt in CCD-certified moves that
+// carry the cloth it touches (carried_by_body.h), between quasi-Newton steps of the cloth, and
+// every line-search step is cut to what CCD certifies. Vertices left out of barrier contact
+// (SolverResult::excluded) fall back to the penalty term.
 SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& cloth,
                                   const TermList& terms, const BodyContact* contact,
                                   const ReferenceSolverConfig& config,
