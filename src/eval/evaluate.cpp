@@ -65,6 +65,7 @@ std::optional<double> row_value(const std::optional<EnergyReport>& mean,
   }
   if (!mean) return std::nullopt;
   if (row == "total") return mean->total;
+  if (row == "residual_mm") return mean->residual_mm;
   if (!mean->has(row)) return std::nullopt;
   return mean->value(row);
 }
@@ -77,6 +78,7 @@ std::optional<double> value_of(const MethodResult& m, const std::string& row) {
 std::vector<std::string> level_rows(const LevelResult& lr) {
   std::vector<std::string> rows = lr.terms;
   rows.push_back("total");
+  rows.push_back("residual_mm");
   bool penetration = false;
   for (const auto& m : lr.methods) penetration = penetration || m.penetration.has_value();
   if (penetration)
@@ -323,7 +325,7 @@ std::string format_table(const std::vector<LevelResult>& levels) {
     for (const auto& row : rows) {
       const PenetrationKey* pk = penetration_key(row);
       any_penetration = any_penetration || pk;
-      std::string label = pk ? pk->label : pretty_term(row);
+      std::string label = pk ? pk->label : row == "residual_mm" ? "Residual mm" : pretty_term(row);
       out << label << std::string(w0 - std::min(w0, label.size()), ' ');
       std::optional<double> best;
       for (const auto& m : lr.methods) {

@@ -24,6 +24,7 @@ std::vector<std::string> columns(const ScoreResult& r) {
   if (!r.reports.empty())
     for (const auto& t : r.reports[0].terms) names.push_back(t.first);
   names.push_back("total");
+  names.push_back("residual_mm");
   if (!r.penetration.empty()) {
     names.push_back("penetrating_fraction");
     names.push_back("max_penetration_mm");
@@ -35,6 +36,7 @@ std::vector<double> row(const ScoreResult& r, size_t i) {
   std::vector<double> v;
   for (const auto& t : r.reports[i].terms) v.push_back(t.second);
   v.push_back(r.reports[i].total);
+  v.push_back(r.reports[i].residual_mm);
   if (!r.penetration.empty()) {
     v.push_back(r.penetration[i].penetrating_fraction);
     v.push_back(r.penetration[i].max_penetration_mm);
@@ -135,6 +137,7 @@ std::string score_json(const ScoreResult& r) {
   Json& mean = out["mean"] = Json::object();
   for (const auto& t : r.mean.terms) mean[t.first] = figure(t.second);
   mean["total"] = figure(r.reports.empty() ? NAN : r.mean.total);
+  mean["residual_mm"] = figure(r.reports.empty() ? NAN : r.mean.residual_mm);
   out["positive_mean"] = figure(r.positive_mean);
   out["positive_max"] = figure(r.positive_max);
   if (!r.penetration.empty()) {
@@ -174,6 +177,10 @@ std::string score_table(const ScoreResult& r, const std::string& title) {
   std::snprintf(line, sizeof line, "  %-22s %14.6g %14.6g\n", "total", r.mean.total, total_max);
   out << line;
   std::snprintf(line, sizeof line, "  %-22s %14.6g %14.6g\n", "positive (s+b+c)", r.positive_mean, r.positive_max);
+  out << line;
+  double residual_max = -std::numeric_limits<double>::infinity();
+  for (const auto& rep : r.reports) residual_max = std::max(residual_max, rep.residual_mm);
+  std::snprintf(line, sizeof line, "  %-22s %14.6g %14.6g\n", "residual (mm)", r.mean.residual_mm, residual_max);
   out << line;
   if (!r.penetration.empty()) {
     std::snprintf(line, sizeof line, "  inside the body: mean %.2f%%, max %.2f%% of vertices; deepest %.2f mm\n",

@@ -62,10 +62,12 @@ EnergyReport mean_report(const std::vector<EnergyReport>& reports) {
       mean.terms[k].second += reports[r].terms[k].second;
     }
     mean.total += reports[r].total;
+    mean.residual_mm += reports[r].residual_mm;
   }
   double n = static_cast<double>(reports.size());
   for (auto& t : mean.terms) t.second /= n;
   mean.total /= n;
+  mean.residual_mm /= n;
   return mean;
 }
 

@@ -10,6 +10,7 @@
 #include "pb4u/physics/cloth_geometry.h"
 #include "pb4u/physics/reference_solver.h"
 #include "pb4u/physics/step_constraints.h"
+#include "pb4u/physics/step_residual.h"
 #include "pb4u/util/error.h"
 #include "pb4u/util/stopwatch.h"
 
@@ -178,6 +179,11 @@ RolloutResult run_rollout(const RolloutInput& in, const StepFunction& step,
     if (finite) {
       report = energy_report(terms, x_next, state, cloth, contact ? &*contact : nullptr, in.metric_material);
       finite = report_finite(report);
+      if (finite && in.measure_residual) {
+        FrameState measured = state;
+        measured.material = in.metric_material;
+        report.residual_mm = 1e3 * step_residual(x_next, measured, cloth, terms, contact ? &*contact : nullptr);
+      }
     }
     if (!finite) {
       result.diverged = true;

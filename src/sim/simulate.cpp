@@ -71,6 +71,7 @@ SimulateResult simulate(const SceneConfig& scene, const std::string& scene_path,
   std::vector<std::pair<std::string, double>> zero;
   for (const auto& t : terms) zero.emplace_back(t, nan);
   zero.emplace_back("total", nan);
+  zero.emplace_back("residual_mm", nan);
   if (body_written) {
     zero.emplace_back("penetrating_fraction", nan);
     zero.emplace_back("max_penetration_mm", nan);
@@ -85,6 +86,7 @@ SimulateResult simulate(const SceneConfig& scene, const std::string& scene_path,
                                     const PenetrationFigures* penetration) {
                                   auto row = report.terms;
                                   row.emplace_back("total", report.total);
+                                  row.emplace_back("residual_mm", report.residual_mm);
                                   if (penetration) {
                                     row.emplace_back("penetrating_fraction", penetration->penetrating_fraction);
                                     row.emplace_back("max_penetration_mm", penetration->max_penetration_mm);
@@ -114,6 +116,10 @@ SimulateResult simulate(const SceneConfig& scene, const std::string& scene_path,
     result.deepest_mm = s.max_penetration_mm;
   }
   for (double ms : r.step_ms) result.step_ms_mean += ms / r.step_ms.size();
+  for (const EnergyReport& report : r.reports) {
+    result.residual_mm_mean += report.residual_mm / r.reports.size();
+    result.residual_mm_max = std::max(result.residual_mm_max, report.residual_mm);
+  }
   if (scene.outputs.plot && scene.outputs.energies_csv && writer.num_frames() > 1)
     plot_energies(out_dir + "/energies.csv", out_dir + "/energies.png", &result.files);
   if (scene.outputs.preview && writer.num_frames() > 0) {

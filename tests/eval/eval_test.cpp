@@ -296,7 +296,7 @@ TEST(Simulate, WritesEveryFrameInEveryFormat) {
     for (std::string l; std::getline(csv, l);) ++lines;
     EXPECT_EQ(lines, 6);
     // A scene without a body has no collision or friction column.
-    EXPECT_EQ(header, "frame,stretch,bending,inertia,gravity,total");
+    EXPECT_EQ(header, "frame,stretch,bending,inertia,gravity,total,residual_mm");
   }
 }
 

@@ -101,7 +101,13 @@ TEST(Score, SimulatesOwnOutputReproducesItsEnergiesCsv) {
   const auto got = read_csv(dir + "/pc2.csv");
   ASSERT_EQ(got.size(), want.size());
   for (size_t c = 1; c < want[0].size(); ++c) {
-    if (want[0][c] == "inertia" || want[0][c] == "friction") continue;  // differences of float32 positions
+    // Differences of float32 positions: inertia and friction read velocities; the residual of a
+    // converged step (2.6e-4 mm here) moves by a few nm when its positions are rounded.
+    if (want[0][c] == "inertia" || want[0][c] == "friction") continue;
+    if (want[0][c] == "residual_mm") {
+      EXPECT_NEAR(std::stod(got[4][c]), std::stod(want[4][c]), 1e-5) << "residual_mm";  // 10 nm
+      continue;
+    }
     const double a = std::stod(want[4][c]), b2 = std::stod(got[4][c]);
     EXPECT_NEAR(b2, a, 1e-3 * std::abs(a) + 1e-6) << want[0][c];
   }

@@ -179,7 +179,9 @@ TEST(Stability, SimulateWritesPenetrationColumnsWithABody) {
   std::ifstream csv(out + "/energies.csv");
   std::string header, row;
   std::getline(csv, header);
-  EXPECT_EQ(header, "frame,stretch,bending,collision,inertia,gravity,friction,total,penetrating_fraction,max_penetration_mm");
+  EXPECT_EQ(header,
+            "frame,stretch,bending,collision,inertia,gravity,friction,total,residual_mm,penetrating_fraction,"
+            "max_penetration_mm");
   std::getline(csv, row);  // frame 0: not computed
   EXPECT_EQ(row.substr(row.rfind(',') + 1), "nan");
   std::getline(csv, row);

@@ -4,6 +4,7 @@
 
 #include "pb4u/physics/energy_report.h"
 #include "pb4u/physics/reference_solver.h"
+#include "pb4u/physics/step_residual.h"
 #include "physics_test_util.h"
 #include "test_util.h"
 
@@ -21,6 +22,28 @@ SolverResult step(FrameState& state, const ClothGeometry& cloth, const TermList&
   state.x_prev = state.x;
   state.x = r.x_next;
   return r;
+}
+
+TEST(StepResidual, IsTheSolversStoppingStepAtItsSolutionAndTheOffsetAwayFromIt) {
+  // A cloth falling onto a sphere, one solved frame, then that frame's output moved off it.
+  TriMesh g;
+  FrameState state = test::cloth_above_sphere(6, 0.3, 0.25, 0.01, 3, &g);
+  const ClothGeometry cloth = make_cloth_geometry(g);
+  PhysicsConfig config;
+  config.solver.max_iterations = 1000;
+  const TermList terms = build_terms(state.effects, config);
+  const std::optional<BodyContact> contact = body_contact_for(state, config);
+  const SolverResult r = solve_reference_frame(state, cloth, terms, config);
+  ASSERT_TRUE(r.converged);
+  // Per vertex (the solver's step norm is per coordinate): at most sqrt(3) x its tolerance.
+  const double at_solution = step_residual(r.x_next, state, cloth, terms, contact ? &*contact : nullptr);
+  EXPECT_LT(at_solution, std::sqrt(3.0) * config.solver.step_tolerance);
+  // Every free vertex 1 mm up (the cloth hangs in the air, 1 cm over the sphere): the step
+  // back is about 1 mm (the initial Hessian is the solver's, not the exact one).
+  const torch::Tensor lifted = r.x_next + torch::tensor({0.0, 1e-3, 0.0}, torch::kFloat64);
+  const double off = step_residual(lifted, state, cloth, terms, contact ? &*contact : nullptr);
+  EXPECT_GT(off, 0.5e-3);
+  EXPECT_LT(off, 2e-3);
 }
 
 TEST(ReferenceSolver, PinnedClothSettlesIntoADrapeBelowThePins) {

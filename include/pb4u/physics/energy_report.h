@@ -3,6 +3,7 @@
 // (Table 1 rows) and the training loss.
 #include <torch/torch.h>
 
+#include <limits>
 #include <string>
 #include <utility>
 #include <vector>
@@ -14,6 +15,9 @@ namespace pb4u {
 struct EnergyReport {
   std::vector<std::pair<std::string, double>> terms;  // active terms, Table-1 order, J
   double total = 0;                                   // J
+  // mm: how far the step is from the minimum of this energy (step_residual.h); NaN where not
+  // measured. Not a term: it is in neither `terms` nor `total`.
+  double residual_mm = std::numeric_limits<double>::quiet_NaN();
 
   bool has(const std::string& name) const;
   double value(const std::string& name) const;  // throws pb4u::Error when absent

@@ -41,6 +41,7 @@ struct RolloutInput {
   int steps = 0;                     // frames to advance
   double dt = 1.0 / 30.0;            // s
   DivergenceConfig divergence;       // when to stop beyond non-finite values
+  bool measure_residual = true;      // each frame's EnergyReport::residual_mm (step_residual.h)
 };
 
 // The rollout of `garment` worn by `body` under `motion`, from its LBS-initialised frame

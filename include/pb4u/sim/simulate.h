@@ -23,8 +23,9 @@ struct SimulateResult {
   bool with_body = false;
   double penetrating_mean = 0, penetrating_max = 0, deepest_mm = 0;
   double step_ms_mean = 0;
-  std::vector<std::string> terms;  // the energy terms (energies.csv also has total and, with a
-                                   // body, penetrating_fraction and max_penetration_mm)
+  double residual_mm_mean = 0, residual_mm_max = 0;  // EnergyReport::residual_mm over the frames
+  std::vector<std::string> terms;  // the energy terms (energies.csv also has total, residual_mm
+                                   // and, with a body, penetrating_fraction and max_penetration_mm)
 };
 
 // What a rollout of the built scene starts from: garment, body frames, pins, effects, the

@@ -1,0 +1,21 @@
+#pragma once
+// How far a step is from the minimum of the energy it is measured by: the length of one
+// quasi-Newton step from x_next, the largest vertex move of H^-1 grad E, with H the reference
+// solver's initial Hessian (inertia + rest membrane stiffness, quasi_newton_hessian.h) plus the
+// terms' contact curvature, and grad E the gradient of the active terms at x_next, pinned
+// vertices held. 0 at the energy's minimum; the reference solver stops below its
+// step_tolerance (1e-6 m). One gradient, one sparse factorisation and one solve: any stepper's
+// output can be measured by it, the network's as well as a solver's.
+#include <torch/torch.h>
+
+#include "pb4u/physics/body_queries.h"
+#include "pb4u/physics/physics_term.h"
+
+namespace pb4u {
+
+// m. terms: build_terms(state.effects, ...); contact: body_contact_for(state, ...) or null.
+// state.material is the material the energy is measured with.
+double step_residual(const torch::Tensor& x_next, const FrameState& state, const ClothGeometry& cloth,
+                     const TermList& terms, const BodyContact* contact);
+
+}  // namespace pb4u

@@ -1,0 +1,52 @@
+#include "pb4u/physics/step_residual.h"
+
+#include <Eigen/SparseCholesky>
+
+#include "pb4u/physics/energy_report.h"
+#include "pb4u/physics/quasi_newton_hessian.h"
+#include "pb4u/util/eigen_tensor.h"
+
+namespace pb4u {
+
+double step_residual(const torch::Tensor& x_next, const FrameState& state, const ClothGeometry& cloth,
+                     const TermList& terms, const BodyContact* contact) {
+  const int64_t n = cloth.num_vertices;
+  std::vector<char> pinned(size_t(n), 0);
+  if (state.effects.pins && state.pinned.defined()) {
+    const torch::Tensor p = state.pinned.to(torch::kCPU, torch::kBool).reshape({n}).contiguous();
+    for (int64_t i = 0; i < n; ++i) pinned[size_t(i)] = p.data_ptr<bool>()[i];
+  }
+  std::vector<int> row(size_t(n), -1);
+  int k = 0;
+  for (int64_t i = 0; i < n; ++i)
+    if (!pinned[size_t(i)]) row[size_t(i)] = k++;
+  if (k == 0) return 0;
+
+  torch::Tensor x = x_next.detach().to(torch::kFloat64).clone().requires_grad_(true);
+  const torch::Tensor E = total_energy(terms, x, state, cloth, contact);
+  const Eigen::MatrixXd G = tensor_to_matrix(torch::autograd::grad({E}, {x})[0]);
+
+  Eigen::SparseMatrix<double> H = quasi_newton_hessian(cloth, state.material, state.dt, row);
+  {
+    torch::NoGradGuard no_grad;
+    torch::Tensor contact_curvature;
+    for (const auto& term : terms) {
+      torch::Tensor c = term->contact_stiffness(x.detach(), state, cloth, contact);
+      if (c.defined()) contact_curvature = contact_curvature.defined() ? contact_curvature + c : c;
+    }
+    if (contact_curvature.defined()) {
+      const torch::Tensor c = contact_curvature.to(torch::kCPU, torch::kFloat64).contiguous();
+      for (int64_t i = 0; i < n; ++i)
+        if (row[size_t(i)] >= 0) H.coeffRef(row[size_t(i)], row[size_t(i)]) += c.data_ptr<double>()[i];
+    }
+  }
+  Eigen::MatrixXd R(k, 3);
+  for (int64_t i = 0; i < n; ++i)
+    if (row[size_t(i)] >= 0) R.row(row[size_t(i)]) = G.row(i);
+  const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(H);
+  if (ldlt.info() != Eigen::Success) return std::numeric_limits<double>::quiet_NaN();
+  const Eigen::MatrixXd D = ldlt.solve(R);
+  return D.rowwise().norm().maxCoeff();
+}
+
+}  // namespace pb4u
