@@ -56,6 +56,9 @@ void add_simulate_command(CLI::App& app, const GlobalOptions& global) {
     if (r.with_body)
       inside = fmt::format("; inside the body mean {:.2f}%, max {:.2f}% (deepest {:.1f} mm)", 100 * r.penetrating_mean,
                            100 * r.penetrating_max, r.deepest_mm);
+    if (r.barrier_contact)
+      inside += fmt::format("; {} frames left cloth out of barrier contact (at most {} vertices)", r.excluded_frames,
+                            r.excluded_max);
     spdlog::info("{} frames: positive energy mean {:.4g} J, max {:.4g} J{}; residual mean {:.3g} mm, max {:.3g} mm; "
                  "{:.1f} ms per frame ({}); {} files in {}",
                  r.frames - 1, r.positive_mean, r.positive_max, inside, r.residual_mm_mean, r.residual_mm_max,

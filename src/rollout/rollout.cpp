@@ -71,19 +71,23 @@ StepFunction network_stepper(const ModelFile& model, const GarmentTopology& topo
   };
 }
 
-StepFunction reference_stepper(const ReferenceSolverConfig& solver) {
+StepFunction reference_stepper(const ReferenceSolverConfig& solver, std::shared_ptr<ContactStepLog> log) {
   auto warned = std::make_shared<bool>(false);
-  return [solver, warned](const FrameState& state, const ClothGeometry& cloth, const TermList& terms,
-                          const BodyContact* contact) {
+  return [solver, warned, log](const FrameState& state, const ClothGeometry& cloth, const TermList& terms,
+                               const BodyContact* contact) {
     const std::optional<BarrierStepInput> barrier = barrier_step_input(state, cloth, solver);
     const SolverResult r = solve_reference_step(state, cloth, terms, contact, solver, barrier ? &*barrier : nullptr);
+    if (log) *log = {r.excluded, r.caught_by_body, r.body_lag};
     if (r.excluded > 0) {
       // Said once per rollout at the default level, every frame with -v.
       const auto level = *warned ? spdlog::level::debug : spdlog::level::warn;
-      spdlog::log(level,
-                  "reference solver: {} cloth vertices found no intersection-free place ({} caught by the body, "
-                  "which was placed {:.1f} mm short of its pose): the penalty term holds them{}",
-                  r.excluded, r.caught_by_body, 1e3 * r.body_lag, *warned ? "" : " (each such frame is logged with -v)");
+      const std::string caught =
+          r.caught_by_body > 0 ? fmt::format(" ({} caught by the body, placed {:.1f} mm short of its pose)",
+                                             r.caught_by_body, 1e3 * r.body_lag)
+                               : "";
+      spdlog::log(level, "reference solver: {} cloth vertices found no intersection-free place{}: the penalty term "
+                  "holds them{}",
+                  r.excluded, caught, *warned ? "" : " (each such frame is logged with -v; energies.csv counts them)");
       *warned = true;
     }
     return r.x_next.to(torch::kFloat64);

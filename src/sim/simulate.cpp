@@ -56,12 +56,17 @@ SimulateResult simulate(const SceneConfig& scene, const std::string& scene_path,
 
   GarmentTopology topology;
   StepFunction step;
+  std::shared_ptr<ContactStepLog> contact_log;
   if (model) {
     topology = build_garment_topology(setup.garment, "garment");
     step = network_stepper(*model, topology);
   } else {
-    step = reference_stepper(scene.physics.solver);
+    contact_log = std::make_shared<ContactStepLog>();
+    step = reference_stepper(scene.physics.solver, contact_log);
   }
+  // The intersection-free solver's per-frame account of the cloth it left out of barrier contact.
+  const bool barrier_columns = !model && scene.physics.solver.contact == "barrier" && setup.effects.collision &&
+                               body_written;
   std::vector<std::string> terms;
   for (const auto& t : build_terms(setup.effects, scene.physics)) terms.push_back(t->name());
 
@@ -76,10 +81,16 @@ SimulateResult simulate(const SceneConfig& scene, const std::string& scene_path,
     zero.emplace_back("penetrating_fraction", nan);
     zero.emplace_back("max_penetration_mm", nan);
   }
+  if (barrier_columns) {
+    zero.emplace_back("contact_excluded", nan);
+    zero.emplace_back("caught_by_body", nan);
+    zero.emplace_back("body_lag_mm", nan);
+  }
   const Eigen::MatrixXd none;
   writer.set_rest_and_previous(setup.garment.V, setup.x_prev);
   writer.add_frame(setup.x0, body_written ? setup.body[0] : none, zero);
 
+  int excluded_frames = 0, excluded_max = 0;
   Progress bar("simulate", scene.frames, "frame");
   RolloutResult r = run_rollout(in, step, scene.physics,
                                 [&](int frame, const Eigen::MatrixXd& x, const EnergyReport& report,
@@ -90,6 +101,13 @@ SimulateResult simulate(const SceneConfig& scene, const std::string& scene_path,
                                   if (penetration) {
                                     row.emplace_back("penetrating_fraction", penetration->penetrating_fraction);
                                     row.emplace_back("max_penetration_mm", penetration->max_penetration_mm);
+                                  }
+                                  if (barrier_columns) {
+                                    row.emplace_back("contact_excluded", contact_log->excluded);
+                                    row.emplace_back("caught_by_body", contact_log->caught_by_body);
+                                    row.emplace_back("body_lag_mm", 1e3 * contact_log->body_lag);
+                                    excluded_frames += contact_log->excluded > 0;
+                                    excluded_max = std::max(excluded_max, contact_log->excluded);
                                   }
                                   writer.add_frame(x, body_written ? setup.body[frame] : none, row);
                                   char status[48];
@@ -106,6 +124,9 @@ SimulateResult simulate(const SceneConfig& scene, const std::string& scene_path,
   result.diverged_reason = r.diverged_reason;
   result.worst_vertex = r.worst_vertex;
   result.with_body = body_written;
+  result.barrier_contact = barrier_columns;
+  result.excluded_frames = excluded_frames;
+  result.excluded_max = excluded_max;
   const PositiveEnergyRange positive = positive_energy_range(r.reports);
   result.positive_mean = positive.mean;
   result.positive_max = positive.max;

@@ -166,13 +166,19 @@ TEST(Stability, BodylessEvaluationHangsEachGarmentFromItsTopBand) {
   EXPECT_NE(why.find("max_frames"), std::string::npos) << why;
 }
 
-TEST(Stability, SimulateWritesPenetrationColumnsWithABody) {
+// Two frames of the tiny dataset's garment on its body, no meshes or plot written.
+SceneConfig two_frames_on_the_tiny_body() {
   SceneConfig s;
   s.frames = 2;
   s.garment.dataset = test::tiny_dataset();
   s.body.dataset = test::tiny_dataset();
   s.outputs.mesh_format = "none";
   s.outputs.plot = false;
+  return s;
+}
+
+TEST(Stability, SimulateWritesPenetrationColumnsWithABody) {
+  SceneConfig s = two_frames_on_the_tiny_body();
   const std::string out = test::temp_dir("sim_penetration");
   SimulateResult r = simulate(s, "scene.yaml", &shipped(), out);
   ASSERT_EQ(r.frames, 3);
@@ -186,6 +192,35 @@ TEST(Stability, SimulateWritesPenetrationColumnsWithABody) {
   EXPECT_EQ(row.substr(row.rfind(',') + 1), "nan");
   std::getline(csv, row);
   EXPECT_NE(row.substr(row.rfind(',') + 1), "nan") << row;
+}
+
+TEST(Stability, TheIntersectionFreeSolverReportsPerFrameTheClothItLeftOutOfContact) {
+  SceneConfig s = two_frames_on_the_tiny_body();
+  s.outputs.preview = false;
+  s.physics.solver.contact = "barrier";
+  const std::string out = test::temp_dir("sim_barrier");
+  SimulateResult r = simulate(s, "scene.yaml", nullptr, out);
+  ASSERT_EQ(r.frames, 3);
+  EXPECT_TRUE(r.barrier_contact);
+  const auto rows = test::read_csv(out + "/energies.csv");
+  ASSERT_EQ(rows.size(), 4u);
+  const std::vector<std::string> tail(rows[0].end() - 3, rows[0].end());
+  EXPECT_EQ(tail, (std::vector<std::string>{"contact_excluded", "caught_by_body", "body_lag_mm"}));
+  int frames_with_excluded = 0, most = 0;
+  for (size_t f = 2; f < rows.size(); ++f) {  // frames 1 and 2 (row 1 is the start frame)
+    const double excluded = std::stod(rows[f][rows[f].size() - 3]);
+    EXPECT_GE(excluded, 0);
+    EXPECT_EQ(excluded, std::floor(excluded));  // a count
+    frames_with_excluded += excluded > 0;
+    most = std::max(most, int(excluded));
+  }
+  EXPECT_EQ(r.excluded_frames, frames_with_excluded);  // the summary agrees with the rows
+  EXPECT_EQ(r.excluded_max, most);
+  // The penalty solver's file has no such columns.
+  s.physics.solver.contact = "penalty";
+  const SimulateResult p = simulate(s, "scene.yaml", nullptr, out + "/penalty");
+  EXPECT_FALSE(p.barrier_contact);
+  EXPECT_EQ(test::read_csv(out + "/penalty/energies.csv")[0].back(), "max_penetration_mm");
 }
 
 TEST(Stability, SimulateStopsOnTheEnergyGuardFromTheCommandLine) {

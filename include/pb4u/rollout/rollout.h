@@ -7,6 +7,7 @@
 
 #include <Eigen/Core>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -64,8 +65,17 @@ using StepFunction = std::function<torch::Tensor(const FrameState& state, const 
 
 // The network's step: K from its calibration and the garment's Lbar, or `k_override` if >= 0.
 StepFunction network_stepper(const ModelFile& model, const GarmentTopology& topology, int64_t k_override = -1);
-// The reference solver's step (SPEC 8).
-StepFunction reference_stepper(const ReferenceSolverConfig& solver);
+// What the reference solver's intersection-free contact did in the last step (solver.contact =
+// barrier with a body; zeros otherwise): the vertices it left out of barrier contact, those of
+// them the body caught, and how far the body was from its pose when it was placed there (m).
+struct ContactStepLog {
+  int excluded = 0, caught_by_body = 0;
+  double body_lag = 0;
+};
+
+// The reference solver's step (SPEC 8); `log`, when given, is overwritten by each step.
+StepFunction reference_stepper(const ReferenceSolverConfig& solver,
+                               std::shared_ptr<ContactStepLog> log = nullptr);
 
 struct RolloutResult {
   // One per measured frame 1..: every finite frame up to the stop, the frame whose positive

@@ -24,8 +24,13 @@ struct SimulateResult {
   double penetrating_mean = 0, penetrating_max = 0, deepest_mm = 0;
   double step_ms_mean = 0;
   double residual_mm_mean = 0, residual_mm_max = 0;  // EnergyReport::residual_mm over the frames
-  std::vector<std::string> terms;  // the energy terms (energies.csv also has total, residual_mm
-                                   // and, with a body, penetrating_fraction and max_penetration_mm)
+  // The intersection-free reference solver (solver.contact = barrier, with a body): frames that
+  // left cloth out of barrier contact, and the most vertices one frame left out.
+  bool barrier_contact = false;
+  int excluded_frames = 0, excluded_max = 0;
+  std::vector<std::string> terms;  // the energy terms (energies.csv also has total, residual_mm,
+                                   // with a body penetrating_fraction and max_penetration_mm, and
+                                   // with barrier_contact contact_excluded, caught_by_body, body_lag_mm)
 };
 
 // What a rollout of the built scene starts from: garment, body frames, pins, effects, the
