@@ -23,7 +23,8 @@ void add_simulate_command(CLI::App& app, const GlobalOptions& global) {
   struct Args {
     std::string device = "cpu";
     std::string checkpoint, scene, out, method = "net", format, preview;
-    int frames = 0;
+    int frames = 0, refine = -1;
+    double refine_tolerance = -1;
     std::vector<std::string> sets;
   };
   auto args = std::make_shared<Args>();
@@ -36,16 +37,29 @@ void add_simulate_command(CLI::App& app, const GlobalOptions& global) {
       ->check(CLI::IsMember({"obj", "ply", "none"}));
   cmd->add_option("--preview", args->preview, "preview.png contact sheet: on | off (overrides the scene's)")
       ->check(CLI::IsMember({"on", "off"}));
+  cmd->add_option("--refine", args->refine,
+                  "Refine each network step by N iterations of the reference solver (physics.solver; with "
+                  "physics.solver.contact=barrier the step is made intersection-free first); 0: off (scene key "
+                  "refine.iterations)")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--refine-tolerance", args->refine_tolerance,
+                  "Refine each network step until the solver's step is below MM millimetres (scene key "
+                  "refine.tolerance_mm)")
+      ->check(CLI::NonNegativeNumber);
   cmd->add_option("--set", args->sets, "Override a scene key, e.g. --set material.mu=30000 (repeatable)");
   cmd->add_option("--device", args->device, "Where the network runs: cpu | cuda | cuda:N (metrics stay on the CPU)");
   cmd->callback([args, &global] {
     apply_global_options(global);
     std::vector<std::string> sets = args->sets;
     if (args->frames > 0) sets.push_back("frames=" + std::to_string(args->frames));
+    if (args->refine >= 0) sets.push_back("refine.iterations=" + std::to_string(args->refine));
+    if (args->refine_tolerance >= 0) sets.push_back(fmt::format("refine.tolerance_mm={}", args->refine_tolerance));
     if (!args->format.empty()) sets.push_back("outputs.mesh_format=" + args->format);
     if (!args->preview.empty()) sets.push_back(std::string("outputs.preview=") + (args->preview == "on" ? "true" : "false"));
     const SceneConfig scene = load_config<SceneConfig>(args->scene, sets);
     std::optional<ModelFile> model;
+    if (args->method != "net" && scene.refine.enabled())
+      throw Error("--refine: refines the network's step; use it with --method net");
     if (args->method == "net") {
       if (args->checkpoint.empty()) throw Error("--checkpoint: required with --method net");
       model = load_model_file(args->checkpoint);
@@ -63,7 +77,8 @@ void add_simulate_command(CLI::App& app, const GlobalOptions& global) {
                  "{:.1f} ms per frame ({}); {} files in {}",
                  r.frames - 1, r.positive_mean, r.positive_max, inside, r.residual_mm_mean, r.residual_mm_max,
                  r.step_ms_mean,
-                 model ? "network step" : "solver step", r.files.size(), args->out);
+                 model ? (scene.refine.enabled() ? "network step + refinement" : "network step") : "solver step",
+                 r.files.size(), args->out);
     if (r.diverged)
       throw Error(args->scene + ": diverged at frame " + std::to_string(r.diverged_at_frame) + ": " +
                   r.diverged_reason + " (vertex " + std::to_string(r.worst_vertex) +

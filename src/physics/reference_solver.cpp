@@ -85,7 +85,8 @@ struct ElasticSolve {
 
 SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& cloth,
                                   const TermList& terms, const BodyContact* contact,
-                                  const ReferenceSolverConfig& config, const BarrierStepInput* barrier) {
+                                  const ReferenceSolverConfig& config, const BarrierStepInput* barrier,
+                                  const torch::Tensor* x_start) {
   check_positions(state.x, cloth);
   check_positions(state.x_prev, cloth);
   if (!torch::isfinite(state.x).all().item<bool>() || !torch::isfinite(state.x_prev).all().item<bool>())
@@ -110,6 +111,10 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
       x_base = torch::where(pinned.unsqueeze(1), state.pin_targets.to(opts), x_base);
     }
   }
+  if (x_start) {  // a given step (the network's) instead of the ballistic prediction; pins as held
+    if (x_start->sizes() != state.x.sizes()) throw Error("reference solver: the start step is not (n, 3)");
+    x_base = torch::where(pinned.unsqueeze(1), x_base, x_start->to(opts));
+  }
   x_base = x_base.detach();
   torch::Tensor free = torch::nonzero(~pinned).squeeze(1);
   const int64_t nf = free.size(0);
@@ -128,7 +133,8 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
   std::vector<char> excluded;
   const auto start_time = std::chrono::steady_clock::now();
   if (barrier) {
-    FeasibleStart start = intersection_free_start(tensor_to_matrix(state.x), tensor_to_matrix(x_base),
+    // From the cloth at t towards the ballistic prediction, or from the given step itself.
+    FeasibleStart start = intersection_free_start(tensor_to_matrix(x_start ? x_base : state.x), tensor_to_matrix(x_base),
                                                   barrier->cloth_edges, barrier->body_t, barrier->body_faces,
                                                   barrier->settings.d_hat);
     spdlog::debug("barrier start: {} pushed out, {} excluded, target reached {:.3f}, {:.0f} ms", start.pushed_out,

@@ -60,13 +60,17 @@ SimulateResult simulate(const SceneConfig& scene, const std::string& scene_path,
   if (model) {
     topology = build_garment_topology(setup.garment, "garment");
     step = network_stepper(*model, topology);
+    if (scene.refine.enabled()) {
+      contact_log = std::make_shared<ContactStepLog>();
+      step = refined_stepper(step, scene.physics.solver, scene.refine, contact_log);
+    }
   } else {
     contact_log = std::make_shared<ContactStepLog>();
     step = reference_stepper(scene.physics.solver, contact_log);
   }
   // The intersection-free solver's per-frame account of the cloth it left out of barrier contact.
-  const bool barrier_columns = !model && scene.physics.solver.contact == "barrier" && setup.effects.collision &&
-                               body_written;
+  const bool barrier_columns = (!model || scene.refine.enabled()) && scene.physics.solver.contact == "barrier" &&
+                               setup.effects.collision && body_written;
   std::vector<std::string> terms;
   for (const auto& t : build_terms(setup.effects, scene.physics)) terms.push_back(t->name());
 

@@ -355,6 +355,29 @@ TEST(Simulate, ReferenceMethodNeedsNoCheckpointAndHoldsPins) {
   EXPECT_NE(r.err.find("--checkpoint"), std::string::npos) << r.err;
 }
 
+TEST(Simulate, RefineRunsTheSolverFromTheNetworksStepAndNeedsTheNetwork) {
+  const std::string out = test::temp_dir("sim_refine");
+  const std::string scene = kSource + "/configs/scenes/hanging_cloth.yaml --set garment.resolution=6 --frames 3 "
+                                      "--format none --preview off";
+  auto r = test::run_pb4u("simulate --checkpoint " + tiny_checkpoint() + " --scene " + scene + " --refine 0 --out " +
+                          out + "/net");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("(network step)"), std::string::npos) << r.err;  // 0: off
+  r = test::run_pb4u("simulate --checkpoint " + tiny_checkpoint() + " --scene " + scene + " --refine 20 --out " +
+                     out + "/refined");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("(network step + refinement)"), std::string::npos) << r.err;
+  // The solver moves the untrained network's steps towards the energy's minimum.
+  const auto net = read_csv(out + "/net/energies.csv"), refined = read_csv(out + "/refined/energies.csv");
+  ASSERT_EQ(net.size(), refined.size());
+  const size_t residual = std::find(net[0].begin(), net[0].end(), "residual_mm") - net[0].begin();
+  ASSERT_LT(residual, net[0].size());
+  EXPECT_LT(std::stod(refined[2][residual]), 0.1 * std::stod(net[2][residual]));
+  r = test::run_pb4u("-q simulate --method reference --scene " + scene + " --refine 2 --out " + out + "/x");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("--refine: refines the network's step"), std::string::npos) << r.err;
+}
+
 TEST(Scene, SquareClothAndBadScenes) {
   TriMesh cloth = square_cloth(0.5, 5, 1.0);
   EXPECT_EQ(cloth.V.rows(), 25);

@@ -53,10 +53,13 @@ struct BarrierStepInput {
 // carry the cloth it touches (carried_by_body.h), between quasi-Newton steps of the cloth, and
 // every line-search step is cut to what CCD certifies. Vertices left out of barrier contact
 // (SolverResult::excluded) fall back to the penalty term.
+// x_start, when given (n, 3), is where the solve starts instead of the ballistic prediction
+// (pinned vertices still at their targets): a network's step to refine (rollout/refined_step.h).
 SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& cloth,
                                   const TermList& terms, const BodyContact* contact,
                                   const ReferenceSolverConfig& config,
-                                  const BarrierStepInput* barrier = nullptr);
+                                  const BarrierStepInput* barrier = nullptr,
+                                  const torch::Tensor* x_start = nullptr);
 
 // The barrier input of a step when config.contact is barrier and the step's effects collide
 // with a body; std::nullopt otherwise (the penalty term then handles contact, if any).

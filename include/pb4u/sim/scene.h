@@ -8,6 +8,7 @@
 
 #include "pb4u/config/config_io.h"
 #include "pb4u/rollout/divergence_guard.h"
+#include "pb4u/rollout/refined_step.h"
 #include "pb4u/mesh/triangle_mesh.h"
 #include "pb4u/scene/material.h"
 #include "pb4u/physics/physics_config.h"
@@ -104,6 +105,7 @@ struct SceneConfig {
   Material material;
   PhysicsConfig physics;
   DivergenceConfig divergence;  // when the rollout stops as diverged
+  RefineConfig refine;          // the network's step refined by the reference solver (physics.solver)
   SceneOutputs outputs;
 
   template <class V>
@@ -117,6 +119,7 @@ struct SceneConfig {
     v("material", material);
     v("physics", physics);
     v("divergence", divergence);
+    v("refine", refine);
     v("outputs", outputs);
   }
 };

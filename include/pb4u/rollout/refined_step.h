@@ -1,0 +1,36 @@
+#pragma once
+// A stepper's step (the network's) refined by the reference solver: the solve starts from the
+// step instead of the ballistic prediction, with the body already at its pose at t + dt. With
+// the intersection-free contact (solver.contact = barrier, a body) the step is first made free
+// of the body (intersection_free_start.h), so for any number of iterations the output is
+// intersection-free (but for the vertices the start could not free, which the penalty term
+// holds) and its incremental potential, the solver's objective, is no higher than the start's
+// (the line search only takes steps that lower it). Without a body it is the solver's L-BFGS
+// from the step.
+#include <memory>
+
+#include "pb4u/config/config_io.h"
+#include "pb4u/physics/physics_config.h"
+#include "pb4u/rollout/rollout.h"
+
+namespace pb4u {
+
+struct RefineConfig {
+  int iterations = 0;        // solver iterations after each step; 0 with tolerance_mm 0: off
+  double tolerance_mm = 0;   // > 0: iterate (up to the solver's max_iterations) until the
+                             // quasi-Newton step is below this (mm) instead of a fixed count
+  bool enabled() const { return iterations > 0 || tolerance_mm > 0; }
+
+  template <class V>
+  void visit(V& v) {
+    v("iterations", iterations, int_at_least(0));
+    v("tolerance_mm", tolerance_mm, non_negative());
+  }
+};
+
+// `inner`'s step refined as `refine` says by the solver `solver` (its contact, barrier or
+// penalty, as configured). `log`, when given, gets the solver's account of each step.
+StepFunction refined_stepper(StepFunction inner, const ReferenceSolverConfig& solver, const RefineConfig& refine,
+                             std::shared_ptr<ContactStepLog> log = nullptr);
+
+}  // namespace pb4u
