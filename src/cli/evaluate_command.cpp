@@ -1,6 +1,7 @@
 // `pb4u evaluate --checkpoint A [--checkpoint B ...] [--config C] [--format table|csv|json]`:
 // Table 1 of the paper on a dataset's held-out motions.
 #include <CLI/CLI.hpp>
+#include <spdlog/fmt/fmt.h>
 #include <iostream>
 
 #include "pb4u/cli/commands.h"
@@ -24,6 +25,8 @@ void add_evaluate_command(CLI::App& app, const GlobalOptions& global) {
     std::string device = "cpu";
     std::vector<std::string> checkpoints, names, methods, sets;
     std::string config, format = "table", preview;
+    int refine = -1;
+    double refine_tolerance = -1;
   };
   auto args = std::make_shared<Args>();
   cmd->add_option("--checkpoint", args->checkpoints, "Training checkpoint or export (repeatable)");
@@ -31,6 +34,13 @@ void add_evaluate_command(CLI::App& app, const GlobalOptions& global) {
   cmd->add_option("--method", args->methods, "Extra method column: reference (the SPEC 8 solver)")
       ->check(CLI::IsMember({"reference", "net"}));
   cmd->add_option("--config,-c", args->config, "Evaluation config (configs/eval/*.yaml)");
+  cmd->add_option("--refine", args->refine,
+                  "Refine each network step by N iterations of the reference solver (physics.solver; config key "
+                  "refine.iterations); the network columns are named '+ N it'")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--refine-tolerance", args->refine_tolerance,
+                  "Refine each network step until the solver's step is below MM millimetres (refine.tolerance_mm)")
+      ->check(CLI::NonNegativeNumber);
   cmd->add_option("--set", args->sets, "Override a config key, e.g. --set max_frames=10 (repeatable)");
   cmd->add_option("--format", args->format, "table | csv | json")->check(CLI::IsMember({"table", "csv", "json"}));
   cmd->add_option("--preview", args->preview,
@@ -40,13 +50,19 @@ void add_evaluate_command(CLI::App& app, const GlobalOptions& global) {
     apply_global_options(global);
     std::vector<std::string> sets = args->sets;
     if (!args->preview.empty()) sets.push_back("preview=" + args->preview);
+    if (args->refine >= 0) sets.push_back("refine.iterations=" + std::to_string(args->refine));
+    if (args->refine_tolerance >= 0) sets.push_back(fmt::format("refine.tolerance_mm={}", args->refine_tolerance));
     const EvalConfig config = load_config<EvalConfig>(args->config, sets);
     std::vector<ModelFile> models;
     const torch::Device device = resolve_device(args->device, "--device");
     for (const auto& path : args->checkpoints) models.push_back(load_model_file(path));
     for (auto& m : models) m.model->to(device);
     if (args->names.size() > models.size()) throw Error("--name: more names than --checkpoint files");
-    const auto names = method_names(models, args->names);
+    auto names = method_names(models, args->names);
+    if (config.refine.enabled())
+      for (auto& name : names)
+        name += config.refine.tolerance_mm > 0 ? fmt::format(" + to {} mm", config.refine.tolerance_mm)
+                                               : fmt::format(" + {} it", config.refine.iterations);
     std::vector<EvalMethod> methods;
     for (size_t i = 0; i < models.size(); ++i) methods.push_back({names[i], &models[i]});
     for (const auto& m : args->methods)

@@ -250,6 +250,7 @@ std::vector<LevelResult> evaluate(const EvalConfig& config, const std::vector<Ev
         if (method.model) {
           topology = build_garment_topology(garment.mesh, garment.name);
           step = network_stepper(*method.model, topology);
+          if (config.refine.enabled()) step = refined_stepper(step, config.physics.solver, config.refine);
           if (mr.K == 0) mr.K = method.model->model->propagation_steps_for(topology.mean_edge_length);
         } else {
           step = reference_stepper(config.physics.solver);

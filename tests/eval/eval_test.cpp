@@ -378,6 +378,22 @@ TEST(Simulate, RefineRunsTheSolverFromTheNetworksStepAndNeedsTheNetwork) {
   EXPECT_NE(r.err.find("--refine: refines the network's step"), std::string::npos) << r.err;
 }
 
+TEST(Evaluate, RefineNamesTheColumnAndLowersTheResidual) {
+  const std::string args = "-q evaluate --checkpoint " + tiny_checkpoint() + " --config " + kSource +
+                           "/configs/eval/tiny.yaml --set dataset=" + test::tiny_dataset() +
+                           " --set levels=[1] --format json";
+  auto plain = test::run_pb4u(args), refined = test::run_pb4u(args + " --refine 20");
+  ASSERT_EQ(plain.exit_code, 0) << plain.err;
+  ASSERT_EQ(refined.exit_code, 0) << refined.err;
+  const auto p = nlohmann::json::parse(plain.out).at("levels")[0].at("methods");
+  const auto r = nlohmann::json::parse(refined.out).at("levels")[0].at("methods");
+  ASSERT_EQ(p.size(), 1u);
+  ASSERT_EQ(r.size(), 1u);
+  const std::string name = p.begin().key();
+  ASSERT_TRUE(r.contains(name + " + 20 it")) << r.dump();
+  EXPECT_LT(r.at(name + " + 20 it").at("residual_mm").get<double>(), p.at(name).at("residual_mm").get<double>());
+}
+
 TEST(Scene, SquareClothAndBadScenes) {
   TriMesh cloth = square_cloth(0.5, 5, 1.0);
   EXPECT_EQ(cloth.V.rows(), 25);

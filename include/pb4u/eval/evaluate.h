@@ -11,6 +11,7 @@
 
 #include "pb4u/config/config_io.h"
 #include "pb4u/rollout/divergence_guard.h"
+#include "pb4u/rollout/refined_step.h"
 #include "pb4u/model/model_file.h"
 #include "pb4u/physics/energy_report.h"
 #include "pb4u/scene/material.h"
@@ -48,6 +49,7 @@ struct EvalConfig {
   Material material;       // the evaluation material (SPEC 2 defaults)
   PhysicsConfig physics;   // evaluation uses the final collision weight
   DivergenceConfig divergence;  // when a rollout stops as diverged
+  RefineConfig refine;          // the networks' steps refined by the reference solver (physics.solver)
   // When set, a PNG contact sheet (sim/preview.h) of the first network method's worst
   // sequence: the one with the largest mean positive energy over every level.
   std::string preview;
@@ -69,6 +71,7 @@ struct EvalConfig {
     v("material", material);
     v("physics", physics);
     v("divergence", divergence);
+    v("refine", refine);
     v("preview", preview);
   }
 };
