@@ -14,6 +14,7 @@
 #include "pb4u/eval/evaluate.h"
 #include "pb4u/eval/score.h"
 #include "pb4u/eval/stage_timing.h"
+#include "pb4u/rollout/refined_step.h"
 #include "pb4u/rollout/rollout.h"
 #include "pb4u/physics/reference_solver.h"
 #include "pb4u/util/error.h"
@@ -49,6 +50,11 @@ BenchRow run_one(const Run& run, const RolloutInput& body_input, const RolloutIn
   row.iterations = run.iterations;
   if (run.model) {
     step = network_stepper(*run.model, topology, run.k_override);
+    if (run.family == "refined") {
+      RefineConfig refine;
+      refine.iterations = run.iterations;
+      step = refined_stepper(step, physics.solver, refine);
+    }
     row.K = run.k_override >= 0 ? run.k_override : run.model->model->propagation_steps_for(topology.mean_edge_length);
   } else {
     physics.solver.max_iterations = run.iterations;
@@ -61,7 +67,7 @@ BenchRow run_one(const Run& run, const RolloutInput& body_input, const RolloutIn
   std::vector<double> latency;
   const size_t skip = r.step_ms.size() > size_t(config.warmup_frames) ? size_t(config.warmup_frames) : 0;
   for (size_t i = skip; i < r.step_ms.size(); ++i)
-    latency.push_back(r.step_ms[i] + (run.model ? 0.0 : r.contact_ms[i]));  // the solver needs contact
+    latency.push_back(r.step_ms[i] + (run.model && run.family != "refined" ? 0.0 : r.contact_ms[i]));  // the solver needs contact
   row.latency_ms_median = median(latency);
   row.latency_ms_min = latency.empty() ? NAN : *std::min_element(latency.begin(), latency.end());
   if (r.reports.empty()) {
@@ -142,6 +148,8 @@ BenchResult run_bench(const BenchConfig& config, const std::function<void(const 
       throw Error("ablations: unknown ablation '" + a + "' (no_update_scaling | no_propagation_control)");
   for (int it : config.reference_iterations)
     if (it < 1) throw Error("reference_iterations: budgets must be at least 1");
+  for (int it : config.refine_iterations)
+    if (it < 1) throw Error("refine_iterations: budgets must be at least 1");
   for (int k : config.k_values)
     if (k < 0) throw Error("k_values: K must be non-negative");
 
@@ -214,6 +222,9 @@ BenchResult run_bench(const BenchConfig& config, const std::function<void(const 
     for (const auto& m : ablated) runs.push_back({method_name(m.config) + " (same weights)", "ablation", &m});
     for (int it : config.reference_iterations)
       runs.push_back({"Reference (" + std::to_string(it) + " it)", "reference", nullptr, -1, it});
+    if (!models.empty())
+      for (int it : config.refine_iterations)
+        runs.push_back({names[0] + " + " + std::to_string(it) + " it", "refined", &models[0], -1, it});
     if (config.no_body_variant && effects.needs_body() && !models.empty()) {
       runs.push_back({names[0] + " (no body)", "no_body", &models[0], -1, 0, false});
       if (!config.reference_iterations.empty())

@@ -71,8 +71,9 @@ TEST(Bench, TinyConfigWritesSpecCsvWithFiniteValues) {
   const std::vector<std::string> header{"level", "triangles", "vertices", "method", "K", "threads",
                                         "latency_ms_median", "latency_ms_min", "physics_loss"};
   EXPECT_EQ(rows[0], header);
-  // tiny.yaml: 2 levels x (2 checkpoints + 2 fixed K + 1 ablation + 1 reference + 2 no-body).
-  ASSERT_EQ(rows.size(), 1u + 2u * 8u);
+  // tiny.yaml: 2 levels x (2 checkpoints + 2 fixed K + 1 ablation + 1 reference + 1 refined
+  // + 2 no-body).
+  ASSERT_EQ(rows.size(), 1u + 2u * 9u);
   // The shipped Pb4U's name follows its inference switches ("Pb4U + projection").
   const std::string pb4u = method_name(load_model_file(kSource + "/data/pretrained/pb4u.h5").config);
   ASSERT_EQ(pb4u.rfind("Pb4U", 0), 0u) << pb4u;
@@ -96,6 +97,7 @@ TEST(Bench, TinyConfigWritesSpecCsvWithFiniteValues) {
   EXPECT_EQ(per_method[pb4u], 2);
   EXPECT_EQ(per_method["MGN"], 2);
   EXPECT_EQ(per_method["Reference (2 it)"], 2);
+  EXPECT_EQ(per_method[pb4u + " + 2 it"], 2);  // refined by the solver
   EXPECT_EQ(per_method[pb4u + " (no body)"], 2);
   EXPECT_EQ(per_method["Reference (2 it) (no body)"], 2);
   EXPECT_EQ(fixed_k, (std::vector<int64_t>{0, 2, 0, 2}));
