@@ -118,9 +118,10 @@ void set_inference_switches(ModelFile& model, const std::vector<std::string>& as
     if (eq == std::string::npos || eq + 1 == a.size())
       throw Error("--set " + a + ": expected KEY=VALUE");
     if (key != "update_scaling" && key != "smooth_distance" && key != "propagation_control" &&
-        key != "contact_projection" && key != "strain_limit")
+        key != "contact_projection" && key != "strain_limit" && key != "refine_iterations")
       throw Error("--set " + a + ": only update_scaling, smooth_distance, propagation_control, "
-                  "contact_projection and strain_limit can change without retraining (the weights stay as trained)");
+                  "contact_projection, strain_limit and refine_iterations can change without retraining (the "
+                  "weights stay as trained)");
     node[key] = a.substr(eq + 1);
   }
   std::stringstream yaml;
@@ -165,7 +166,8 @@ std::string network_name(const ModelConfig& config) {
 
 std::string method_name(const ModelConfig& config) {
   return network_name(config) + (config.contact_projection > 0 ? " + projection" : "") +
-         (config.strain_limit > 0 ? " + strain limit" : "");
+         (config.strain_limit > 0 ? " + strain limit" : "") +
+         (config.refine_iterations > 0 ? " + " + std::to_string(config.refine_iterations) + " it" : "");
 }
 
 int64_t parameter_count(const torch::nn::Module& module) {

@@ -11,6 +11,7 @@
 #include "pb4u/physics/reference_solver.h"
 #include "pb4u/physics/step_constraints.h"
 #include "pb4u/physics/step_residual.h"
+#include "pb4u/rollout/refined_step.h"
 #include "pb4u/util/error.h"
 #include "pb4u/util/stopwatch.h"
 
@@ -44,7 +45,10 @@ std::vector<Eigen::MatrixXd> skinned_pin_targets(const Body& body, const Garment
   return targets;
 }
 
-StepFunction network_stepper(const ModelFile& model, const GarmentTopology& topology, int64_t k_override) {
+namespace {
+
+// The network's step with the model file's passes (contact projection, strain limit).
+StepFunction network_with_passes(const ModelFile& model, const GarmentTopology& topology, int64_t k_override) {
   Pb4uNet net = model.model;
   const double gap = model.config.contact_projection, strain_limit = model.config.strain_limit;
   // The network (graph building included) runs where its weights are (--device); the
@@ -69,6 +73,16 @@ StepFunction network_stepper(const ModelFile& model, const GarmentTopology& topo
       if (t->defined()) *t = t->to(device);
     return constrain(state, net->step(s, on_device, k_override).to(torch::kCPU, torch::kFloat64), contact);
   };
+}
+
+}  // namespace
+
+StepFunction network_stepper(const ModelFile& model, const GarmentTopology& topology, int64_t k_override) {
+  StepFunction step = network_with_passes(model, topology, k_override);
+  if (model.config.refine_iterations <= 0) return step;
+  RefineConfig refine;
+  refine.iterations = model.config.refine_iterations;
+  return refined_stepper(step, ReferenceSolverConfig{}, refine);
 }
 
 StepFunction reference_stepper(const ReferenceSolverConfig& solver, std::shared_ptr<ContactStepLog> log) {

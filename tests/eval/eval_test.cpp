@@ -99,9 +99,11 @@ TEST(ModelFile, ExportSetChangesOnlyInferenceSwitches) {
   const std::string dir = test::temp_dir("export_set");
   auto r = test::run_pb4u("-q export --checkpoint " + tiny_checkpoint() + " --out " + dir +
                           "/detail.h5 --set update_scaling=detail --set model.smooth_distance=0.08 --set contact_projection=0.002 "
-                          "--set strain_limit=0.1");
+                          "--set strain_limit=0.1 --set refine_iterations=3");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   ModelFile ckpt = load_model_file(tiny_checkpoint()), detail = load_model_file(dir + "/detail.h5");
+  EXPECT_EQ(detail.config.refine_iterations, 3);
+  EXPECT_EQ(ckpt.config.refine_iterations, 0);
   EXPECT_EQ(ckpt.config.update_scaling, "on");
   EXPECT_EQ(detail.config.update_scaling, "detail");
   EXPECT_DOUBLE_EQ(detail.config.smooth_distance, 0.08);
@@ -109,7 +111,7 @@ TEST(ModelFile, ExportSetChangesOnlyInferenceSwitches) {
   EXPECT_EQ(ckpt.config.contact_projection, 0.0);
   EXPECT_DOUBLE_EQ(detail.config.strain_limit, 0.1);
   EXPECT_EQ(ckpt.config.strain_limit, 0.0);
-  EXPECT_EQ(method_name(detail.config), "Pb4U + projection + strain limit");
+  EXPECT_EQ(method_name(detail.config), "Pb4U + projection + strain limit + 3 it");
   EXPECT_EQ(detail.model->config.update_scaling, "detail");  // the network computes with it
   auto pa = ckpt.model->named_parameters(), pb = detail.model->named_parameters();
   for (const auto& p : pa) EXPECT_TRUE(torch::equal(p.value(), pb[p.key()])) << p.key();
@@ -373,6 +375,16 @@ TEST(Simulate, RefineRunsTheSolverFromTheNetworksStepAndNeedsTheNetwork) {
   const size_t residual = std::find(net[0].begin(), net[0].end(), "residual_mm") - net[0].begin();
   ASSERT_LT(residual, net[0].size());
   EXPECT_LT(std::stod(refined[2][residual]), 0.1 * std::stod(net[2][residual]));
+  // The same refinement as a switch of the model file.
+  ASSERT_EQ(test::run_pb4u("-q export --checkpoint " + tiny_checkpoint() + " --set refine_iterations=20 --out " +
+                           out + "/refined.h5")
+                .exit_code,
+            0);
+  r = test::run_pb4u("simulate --checkpoint " + out + "/refined.h5 --scene " + scene + " --out " + out + "/file");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto from_file = read_csv(out + "/file/energies.csv");
+  EXPECT_NEAR(std::stod(from_file[2][residual]), std::stod(refined[2][residual]),
+              1e-9 + 1e-6 * std::stod(refined[2][residual]));
   r = test::run_pb4u("-q simulate --method reference --scene " + scene + " --refine 2 --out " + out + "/x");
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.err.find("--refine: refines the network's step"), std::string::npos) << r.err;

@@ -24,6 +24,10 @@ struct ModelConfig {
   // rest length (physics/strain_limiting.h; 0.1: 10%), alternated with the contact projection
   // (physics/step_constraints.h). 0: off (training never limits).
   double strain_limit = 0.0;
+  // > 0: at inference each step (after the two passes above) is refined by this many
+  // iterations of the reference solver with its default settings (penalty contact;
+  // rollout/refined_step.h). 0: off (training never refines).
+  int refine_iterations = 0;
   int latent = 128;                        // width of every latent vector and hidden layer
   int mlp_hidden_layers = 2;               // hidden layers per MLP
   int num_blocks = 15;                     // N MeshGraphNet blocks in the update stack
@@ -59,6 +63,7 @@ struct ModelConfig {
     v("smooth_distance", smooth_distance, positive());
     v("contact_projection", contact_projection, in_range(0.0, 0.05));
     v("strain_limit", strain_limit, in_range(0.0, 10.0));
+    v("refine_iterations", refine_iterations, int_at_least(0));
     v("latent", latent, int_at_least(1));
     v("mlp_hidden_layers", mlp_hidden_layers, int_at_least(1));
     v("num_blocks", num_blocks, int_at_least(0));
