@@ -4,6 +4,9 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <cstdlib>
+#include <mutex>
+#include <vector>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -14,6 +17,24 @@
 namespace pb4u::test {
 namespace fs = std::filesystem;
 
+namespace {
+
+// The directories temp_dir made in this process, removed when it exits (PB4U_KEEP_TEST_DIRS=1
+// keeps them to look at).
+std::mutex made_mutex;
+std::vector<std::string>& made() {
+  static auto* dirs = new std::vector<std::string>;  // never destroyed: read at exit
+  return *dirs;
+}
+void remove_made_dirs() {
+  const char* keep = std::getenv("PB4U_KEEP_TEST_DIRS");
+  if (keep && std::string(keep) == "1") return;
+  std::lock_guard<std::mutex> lock(made_mutex);
+  for (const auto& dir : made()) remove_tree(dir);
+}
+
+}  // namespace
+
 std::string temp_dir(const std::string& tag) {
   static std::atomic<int> counter{0};
   fs::path dir = fs::temp_directory_path() /
@@ -21,6 +42,9 @@ std::string temp_dir(const std::string& tag) {
                   std::to_string(counter++));
   remove_tree(dir.string());  // not fs::remove_all: see remove_tree.h
   fs::create_directories(dir);
+  std::lock_guard<std::mutex> lock(made_mutex);
+  if (made().empty()) std::atexit(remove_made_dirs);
+  made().push_back(dir.string());
   return dir.string();
 }
 

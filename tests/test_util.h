@@ -9,7 +9,8 @@ namespace pb4u::test {
 // The source tree (configs/, data/, scripts/).
 inline const std::string kSource = PB4U_SOURCE_DIR;
 
-// A fresh empty directory under the system temp dir, unique per call.
+// A fresh empty directory under the system temp dir, unique per call. Removed when the test
+// process exits (kept with PB4U_KEEP_TEST_DIRS=1, to look at a failure's files).
 std::string temp_dir(const std::string& tag);
 
 // Writes `text` to `path` (overwriting).
