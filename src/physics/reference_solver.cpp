@@ -125,9 +125,10 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
   // Barrier contact: the solve starts from an intersection-free cloth (pins where it could bring
   // them) and the body at t. The body's motion to t + dt is a boundary condition (IPC's
   // kinematic objects): each iteration first moves the body by what is left of it, the cloth it
-  // touches along with it (the Newton response to that motion), as far as CCD certifies; then
-  // one quasi-Newton step of the cloth against the body where it stands. Where the cloth leaves
-  // the body no room (pinched between two body parts) the body stops short: SolverResult::body_lag.
+  // touches carried along (carried_by_body.h), as far as CCD certifies; then one quasi-Newton
+  // step of the cloth against the body where it stands. Where the cloth leaves the body no room
+  // (pinched between two body parts) the body is placed at its pose after kMaxBodyMoves tries
+  // and the cloth it then cuts or holds leaves barrier contact (SolverResult::caught_by_body).
   ContactSurface body;
   ContactCandidates candidates;
   std::vector<char> excluded;
@@ -147,8 +148,8 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
     candidates = contact_candidates(start.x, {}, barrier->cloth_edges, body, {}, barrier->settings.d_hat);
     drop_pairs_of(excluded, barrier->cloth_edges, &candidates);
   }
-  // The vertices the start left out of barrier contact fall back to the penalty term (SPEC 3.3)
-  // until a later step finds them a free place: never worse off than under the penalty solver.
+  // The vertices out of barrier contact (the start found them no free place, or the placed body
+  // caught them) fall back to the penalty term (SPEC 3.3) until a later step frees them.
   const CollisionTerm* penalty = nullptr;
   for (const auto& term : terms)
     if (term->name() == "collision") penalty = dynamic_cast<const CollisionTerm*>(term.get());
