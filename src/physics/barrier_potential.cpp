@@ -8,7 +8,7 @@
 
 #include "pb4u/physics/additive_ccd.h"
 #include "pb4u/physics/barrier.h"
-#include "pb4u/physics/primitive_distance.h"
+#include "pb4u/physics/pair_distances.h"
 
 namespace pb4u {
 namespace {
@@ -38,33 +38,21 @@ BarrierValue barrier_potential(const Eigen::MatrixXd& x, const Eigen::MatrixXi& 
                                Eigen::VectorXd* curvature) {
   BarrierValue out;
   out.min_distance = std::numeric_limits<double>::infinity();
-  auto add = [&](const PrimitiveDistance& d, int cloth_a, int cloth_b, bool edge) {
+  for_each_pair_distance(x, cloth_edges, body, candidates,
+                         [&](const PrimitiveDistance& d, const std::array<int, 4>& points, int cloth_points) {
     out.min_distance = std::min(out.min_distance, d.distance);
     if (d.distance >= s.d_hat) return;
     ++out.active;
     out.energy += s.stiffness * barrier(d.distance, s.d_hat);
-    if (curvature) {
-      const double k = s.stiffness * barrier_second_derivative(d.distance, s.d_hat);
-      (*curvature)(cloth_a) += k * d.gradient.segment<3>(0).squaredNorm();
-      if (edge) (*curvature)(cloth_b) += k * d.gradient.segment<3>(3).squaredNorm();
-    }
-    if (!gradient) return;
+    // Only the cloth's points move in the solve: the derivatives of the first one (vertex) or
+    // two (edge) of the four points.
+    const double k = curvature ? s.stiffness * barrier_second_derivative(d.distance, s.d_hat) : 0;
     const double scale = s.stiffness * barrier_derivative(d.distance, s.d_hat);
-    // Only the cloth's points move in the solve: the gradient of the first one (vertex) or two
-    // (edge) of the four points.
-    gradient->row(cloth_a) += scale * d.gradient.segment<3>(0).transpose();
-    if (edge) gradient->row(cloth_b) += scale * d.gradient.segment<3>(3).transpose();
-  };
-  for (const auto& [v, f] : candidates.vertex_face)
-    add(point_triangle_distance(point_row(x, v), point_row(body.V, body.F(f, 0)), point_row(body.V, body.F(f, 1)),
-                                point_row(body.V, body.F(f, 2))),
-        v, -1, false);
-  for (const auto& [e, be] : candidates.edge_edge) {
-    const int a = cloth_edges(e, 0), b = cloth_edges(e, 1);
-    add(edge_edge_distance(point_row(x, a), point_row(x, b), point_row(body.V, body.E(be, 0)),
-                           point_row(body.V, body.E(be, 1))),
-        a, b, true);
-  }
+    for (int i = 0; i < cloth_points; ++i) {
+      if (curvature) (*curvature)(points[i]) += k * d.gradient.segment<3>(3 * i).squaredNorm();
+      if (gradient) gradient->row(points[i]) += scale * d.gradient.segment<3>(3 * i).transpose();
+    }
+  });
   if (out.min_distance <= 0) out.energy = std::numeric_limits<double>::infinity();
   return out;
 }

@@ -3,7 +3,7 @@
 #include <algorithm>
 
 #include "pb4u/physics/barrier_potential.h"
-#include "pb4u/physics/primitive_distance.h"
+#include "pb4u/physics/pair_distances.h"
 #include "pb4u/spatial/signed_distance_to_surface.h"
 
 namespace pb4u {
@@ -29,16 +29,11 @@ std::vector<char> vertices_not_free_of(const Eigen::MatrixXd& x, const Eigen::Ma
   for (int e : cloth_edges_through_body(x, cloth_edges, body)) out[size_t(cloth_edges(e, 0))] = out[size_t(cloth_edges(e, 1))] = 1;
   const double touching = kTouching * d_hat;
   const ContactCandidates near = contact_candidates(x, {}, cloth_edges, body, {}, touching);
-  for (const auto& [v, f] : near.vertex_face)
-    if (point_triangle_distance(point_row(x, v), point_row(V, F(f, 0)), point_row(V, F(f, 1)), point_row(V, F(f, 2)))
-            .distance < touching)
-      out[size_t(v)] = 1;
-  for (const auto& [e, be] : near.edge_edge) {
-    const int a = cloth_edges(e, 0), b = cloth_edges(e, 1);
-    if (edge_edge_distance(point_row(x, a), point_row(x, b), point_row(V, body.E(be, 0)), point_row(V, body.E(be, 1)))
-            .distance < touching)
-      out[size_t(a)] = out[size_t(b)] = 1;
-  }
+  for_each_pair_distance(x, cloth_edges, body, near,
+                         [&](const PrimitiveDistance& d, const std::array<int, 4>& points, int cloth_points) {
+    if (d.distance < touching)
+      for (int i = 0; i < cloth_points; ++i) out[size_t(points[i])] = 1;
+  });
   return out;
 }
 

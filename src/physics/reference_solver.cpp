@@ -227,10 +227,9 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
       torch::Tensor c = term->contact_stiffness(x, state, cloth, contact);
       if (c.defined()) sum = sum.defined() ? sum + c : c;
     }
-    if (fallback_rows.defined()) {
-      const torch::Tensor depth =
-          (penalty->eps() - ((x.index_select(0, fallback_rows) - fallback.point) * fallback.normal).sum(1)).clamp_min(0);
-      torch::Tensor c = torch::zeros({n}, opts).index_copy(0, fallback_rows, 6 * penalty->weight() * depth);
+    if (fallback_rows.defined()) {  // the penalty's curvature, at the vertices it holds
+      const torch::Tensor all = penalty->contact_stiffness(x, state, cloth, contact);
+      torch::Tensor c = torch::zeros({n}, opts).index_copy(0, fallback_rows, all.index_select(0, fallback_rows));
       sum = sum.defined() ? sum + c : c;
     }
     if (barrier) {
