@@ -31,7 +31,10 @@ void add_simulate_command(CLI::App& app, const GlobalOptions& global) {
   cmd->add_option("--checkpoint", args->checkpoint, "Training checkpoint or export (needed for --method net)");
   cmd->add_option("--scene,-s", args->scene, "Scene YAML")->required();
   cmd->add_option("--out,-o", args->out, "Output directory")->required();
-  cmd->add_option("--method", args->method, "net | reference")->check(CLI::IsMember({"net", "reference"}));
+  cmd->add_option("--method", args->method,
+                  "net | reference (the solver with the scene's physics.solver.contact: penalty by default, "
+                  "barrier for intersection-free contact) | penalty (the solver with penalty contact)")
+      ->check(CLI::IsMember({"net", "reference", "penalty"}));
   cmd->add_option("--frames", args->frames, "Frames to simulate (overrides the scene's)")->check(CLI::PositiveNumber);
   cmd->add_option("--format", args->format, "Per-frame meshes: obj | ply | none (overrides the scene's)")
       ->check(CLI::IsMember({"obj", "ply", "none"}));
@@ -53,6 +56,7 @@ void add_simulate_command(CLI::App& app, const GlobalOptions& global) {
     std::vector<std::string> sets = args->sets;
     if (args->frames > 0) sets.push_back("frames=" + std::to_string(args->frames));
     if (args->refine >= 0) sets.push_back("refine.iterations=" + std::to_string(args->refine));
+    if (args->method == "penalty") sets.push_back("physics.solver.contact=penalty");
     if (args->refine_tolerance >= 0) sets.push_back(fmt::format("refine.tolerance_mm={}", args->refine_tolerance));
     if (!args->format.empty()) sets.push_back("outputs.mesh_format=" + args->format);
     if (!args->preview.empty()) sets.push_back(std::string("outputs.preview=") + (args->preview == "on" ? "true" : "false"));

@@ -223,6 +223,20 @@ TEST(Stability, TheIntersectionFreeSolverReportsPerFrameTheClothItLeftOutOfConta
   EXPECT_EQ(test::read_csv(out + "/penalty/energies.csv")[0].back(), "max_penetration_mm");
 }
 
+TEST(Stability, MethodPenaltyRunsThePenaltySolverWhateverTheScenesContact) {
+  const std::string dir = test::temp_dir("sim_method_penalty");
+  test::write_file(dir + "/s.yaml", "frames: 2\ngarment: {dataset: " + test::tiny_dataset() +
+                                        "}\nbody: {dataset: " + test::tiny_dataset() +
+                                        "}\nphysics: {solver: {contact: barrier}}\n"
+                                        "outputs: {mesh_format: none, plot: false, preview: false}\n");
+  for (const std::string method : {"reference", "penalty"}) {
+    auto r = test::run_pb4u("-q simulate --method " + method + " --scene " + dir + "/s.yaml --out " + dir + "/" + method);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+  }
+  EXPECT_EQ(test::read_csv(dir + "/reference/energies.csv")[0].back(), "body_lag_mm");  // barrier, as the scene says
+  EXPECT_EQ(test::read_csv(dir + "/penalty/energies.csv")[0].back(), "max_penetration_mm");
+}
+
 TEST(Stability, SimulateStopsOnTheEnergyGuardFromTheCommandLine) {
   const std::string out = test::temp_dir("sim_energy_guard");
   // Ratio 1 over a floor of ~0: any frame whose positive energy exceeds frame 1's stops it;
