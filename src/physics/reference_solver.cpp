@@ -131,6 +131,8 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
   // and the cloth it then cuts or holds leaves barrier contact (SolverResult::caught_by_body).
   ContactSurface body;
   ContactCandidates candidates;
+  BarrierSettings settings = barrier ? barrier->settings : BarrierSettings{};
+  double closest = std::numeric_limits<double>::infinity();  // m: nearest pair at the last evaluation
   std::vector<char> excluded;
   const auto start_time = std::chrono::steady_clock::now();
   if (barrier) {
@@ -188,7 +190,9 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
     double energy = E.item<double>();
     if (barrier) {
       Eigen::MatrixXd G = Eigen::MatrixXd::Zero(n, 3);
-      energy += barrier_potential(positions(q), barrier->cloth_edges, body, candidates, barrier->settings, &G).energy;
+      const BarrierValue b = barrier_potential(positions(q), barrier->cloth_edges, body, candidates, settings, &G);
+      energy += b.energy;
+      closest = b.min_distance;
       *grad += as_flat(G, opts).reshape({n, 3}).index_select(0, free).reshape({-1});
     }
     return energy;
@@ -234,7 +238,7 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
     }
     if (barrier) {
       Eigen::VectorXd curvature = Eigen::VectorXd::Zero(n);
-      barrier_potential(positions(q), barrier->cloth_edges, body, candidates, barrier->settings, nullptr, &curvature);
+      barrier_potential(positions(q), barrier->cloth_edges, body, candidates, settings, nullptr, &curvature);
       if (curvature.maxCoeff() > 0) {
         torch::Tensor c = torch::from_blob(curvature.data(), {n}, torch::kFloat64).clone().to(opts);
         sum = sum.defined() ? sum + c : c;
@@ -249,6 +253,7 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
   double E = evaluate(q, &g);
   std::deque<Pair> history;
   double step_norm = 0;
+  double accepted_closest = std::numeric_limits<double>::infinity();
   // Where the cloth leaves the body no room (pinched between two body parts, or a body that
   // intersects itself) the body is placed at its pose after kMaxBodyMoves tries, and the cloth
   // it now cuts or holds leaves barrier contact for the penalty term (SolverResult::excluded).
@@ -371,7 +376,17 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
     g = g_new;
     E = E_new;
     ++result.iterations;
+    // IPC's adaptive stiffness: a pair still closing in below barrier_gap x d_hat doubles kappa
+    // (up to barrier_stiffness_max), which moves the objective: the curvature pairs go.
+    if (barrier && closest < config.barrier_gap * settings.d_hat && closest < accepted_closest &&
+        settings.stiffness * 2 <= config.barrier_stiffness_max) {
+      settings.stiffness *= 2;
+      history.clear();
+      E = evaluate(q, &g);
+    }
+    accepted_closest = closest;
   }
+  result.barrier_stiffness = settings.stiffness;
 
   if (barrier && body_left() > 0) place_body(body_left());  // the iterations ran out first
   result.x_next = x_base.index_copy(0, free, q.reshape({nf, 3})).detach();
@@ -379,11 +394,11 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
     const Eigen::MatrixXd X = positions(q);
     ContactCandidates last = contact_candidates(X, {}, barrier->cloth_edges, body, {}, barrier->settings.d_hat);
     drop_pairs_of(excluded, barrier->cloth_edges, &last);
-    result.min_distance = barrier_potential(X, barrier->cloth_edges, body, last, barrier->settings).min_distance;
+    result.min_distance = barrier_potential(X, barrier->cloth_edges, body, last, settings).min_distance;
     spdlog::debug("barrier step: {} iterations, {} evaluations, {} candidate pairs last, min distance {:.3g} mm, "
-                  "body placed {:.3g} mm short, {:.0f} ms",
+                  "body placed {:.3g} mm short, kappa {:.3g}, {:.0f} ms",
                   result.iterations, result.evaluations, candidates.size(), 1e3 * result.min_distance,
-                  1e3 * result.body_lag, ms_since(start_time));
+                  1e3 * result.body_lag, settings.stiffness, ms_since(start_time));
   }
   result.energy = E;
   result.gradient_norm = nf ? g.abs().max().item<double>() : 0.0;
@@ -402,6 +417,9 @@ std::optional<BarrierStepInput> barrier_step_input(const FrameState& state, cons
   input.cloth_edges = unique_edges(index_tensor_to_matrix(cloth.faces));
   input.settings.d_hat = config.barrier_distance;
   input.settings.stiffness = config.barrier_stiffness;
+  if (config.barrier_stiffness_max > 0 && config.barrier_stiffness_max < config.barrier_stiffness)
+    throw Error("reference solver: solver.barrier_stiffness_max (" + std::to_string(config.barrier_stiffness_max) +
+                ") is below solver.barrier_stiffness (" + std::to_string(config.barrier_stiffness) + ")");
   return input;
 }
 

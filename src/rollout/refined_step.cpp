@@ -7,6 +7,8 @@ namespace pb4u {
 StepFunction refined_stepper(StepFunction inner, const ReferenceSolverConfig& solver, const RefineConfig& refine,
                              std::shared_ptr<ContactStepLog> log) {
   ReferenceSolverConfig config = solver;
+  // A fixed kappa: the potential the output is no higher than is the start's, at one stiffness.
+  config.barrier_stiffness_max = 0;
   if (refine.tolerance_mm > 0) {
     config.step_tolerance = 1e-3 * refine.tolerance_mm;
   } else {

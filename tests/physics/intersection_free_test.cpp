@@ -19,6 +19,7 @@
 #include "pb4u/rollout/refined_step.h"
 #include "pb4u/spatial/signed_distance_to_surface.h"
 #include "pb4u/util/eigen_tensor.h"
+#include "pb4u/util/error.h"
 #include "physics_test_util.h"
 #include "test_util.h"
 
@@ -233,6 +234,49 @@ TEST(IntersectionFreeSolver, ClothDroppedOnASphereComesToRestOutsideIt) {
   EXPECT_LT(kinetic, 1e-4);
 }
 
+TEST(IntersectionFreeSolver, AdaptiveStiffnessHoldsAHeavyClothFartherOffTheBody) {
+  // A cloth 100x the default density resting on a sphere. With a soft fixed kappa its contacts
+  // sink below a hundredth of d_hat, where the next step's start counts them as touching and
+  // leaves them to the penalty term. The adaptive kappa doubles while a pair closes in below
+  // barrier_gap x d_hat, holds the cloth farther out and keeps it intersection-free.
+  auto rest_on_sphere = [](double stiffness, double stiffness_max, bool check_free) {
+    ClothOverSphere scene(0.002);
+    scene.state.material.density *= 100;
+    PhysicsConfig config = barrier_config();
+    config.solver.barrier_stiffness = stiffness;
+    config.solver.barrier_stiffness_max = stiffness_max;
+    const Eigen::MatrixXd body_V = tensor_to_matrix(scene.state.body.vertices);
+    SolverResult r;
+    int excluded = 0;
+    for (int frame = 0; frame < 10; ++frame) {
+      r = barrier_step(scene.state, scene.cloth, config);
+      excluded += r.excluded;
+      if (!check_free) continue;
+      const Freedom f = freedom(tensor_to_matrix(scene.state.x), scene.edges, body_V, scene.sphere.F);
+      EXPECT_GT(f.min_distance, 0) << "frame " << frame;
+      EXPECT_EQ(f.edges_through, 0) << "frame " << frame;
+      EXPECT_EQ(r.excluded, 0) << "frame " << frame;
+    }
+    return std::make_pair(r, excluded);
+  };
+  const auto [fixed, fixed_excluded] = rest_on_sphere(1, 0, false);
+  const auto [adaptive, adaptive_excluded] = rest_on_sphere(1, 1e4, true);
+  EXPECT_EQ(fixed.barrier_stiffness, 1);
+  EXPECT_GT(fixed_excluded, 0);  // sunk past the start's touching distance
+  EXPECT_GT(adaptive.barrier_stiffness, 1);
+  EXPECT_LE(adaptive.barrier_stiffness, 1e4);
+  EXPECT_EQ(adaptive_excluded, 0);
+  EXPECT_GT(adaptive.min_distance, fixed.min_distance);
+}
+
+TEST(IntersectionFreeSolver, StiffnessCapBelowTheStartIsRefused) {
+  ClothOverSphere scene(0.01);
+  PhysicsConfig config = barrier_config();
+  config.solver.barrier_stiffness = 100;
+  config.solver.barrier_stiffness_max = 10;
+  EXPECT_THROW(barrier_step(scene.state, scene.cloth, config), Error);
+}
+
 TEST(IntersectionFreeSolver, ASphereRisingFastThroughAClothCarriesItWithoutCrossing) {
   // The sphere starts 5 mm under a resting cloth and rises at 3 m/s (0.1 m a frame).
   const double radius = 0.2, speed = 3;
@@ -284,7 +328,11 @@ TEST(RefinedStep, AnyIterationCountEndsFreeOfTheBodyAndMoreIterationsNeverRaiseT
     for (const auto& term : terms)
       if (term->name() != "collision") e += term->energy(x, state, cloth, &*contact).item<double>();
     const Eigen::MatrixXd X = tensor_to_matrix(x);
-    return e + barrier_potential(X, edges, body, contact_candidates(X, {}, edges, body, {}, 1e-3), {}).energy;
+    BarrierSettings settings;  // the refinement's fixed kappa (refined_step.h)
+    settings.d_hat = config.solver.barrier_distance;
+    settings.stiffness = config.solver.barrier_stiffness;
+    return e + barrier_potential(X, edges, body, contact_candidates(X, {}, edges, body, {}, settings.d_hat), settings)
+                   .energy;
   };
   double last = std::numeric_limits<double>::infinity();
   for (const int n : {0, 1, 2, 5, 20}) {

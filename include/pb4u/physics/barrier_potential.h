@@ -16,7 +16,7 @@ namespace pb4u {
 
 struct BarrierSettings {
   double d_hat = 1e-3;      // m: the barrier acts below this distance
-  double stiffness = 10;    // kappa, J/m^2 (the barrier is in m^2)
+  double stiffness = 1000;  // kappa, J/m^2 (the barrier is in m^2)
 };
 
 struct BarrierValue {

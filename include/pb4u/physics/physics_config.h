@@ -63,7 +63,12 @@ struct ReferenceSolverConfig {
   // start made intersection-free (intersection_free_start.h).
   std::string contact = "penalty";
   double barrier_distance = 1e-3;   // m: d_hat, where the barrier starts to act
-  double barrier_stiffness = 10;    // J/m^2: kappa
+  double barrier_stiffness = 1000;  // J/m^2: kappa at the start of each step
+  // J/m^2: kappa may double up to this within a step (IPC's adaptive stiffness): whenever an
+  // accepted step leaves the closest pair nearer than barrier_gap x d_hat and nearer than the
+  // step before. 0: kappa stays fixed.
+  double barrier_stiffness_max = 1e5;
+  double barrier_gap = 0.1;
 
   template <class V>
   void visit(V& v) {
@@ -76,6 +81,8 @@ struct ReferenceSolverConfig {
     v("contact", contact, one_of({"penalty", "barrier"}));
     v("barrier_distance", barrier_distance, positive());
     v("barrier_stiffness", barrier_stiffness, positive());
+    v("barrier_stiffness_max", barrier_stiffness_max, non_negative());
+    v("barrier_gap", barrier_gap, in_range(0.0, 1.0));
   }
 };
 

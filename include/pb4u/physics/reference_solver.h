@@ -31,6 +31,7 @@ struct SolverResult {
                              // cloth left it no room and it was placed there (0: it got there)
   double min_distance = std::numeric_limits<double>::infinity();  // m, cloth to body at x_next
                              // over the vertices in contact (the excluded ones left out)
+  double barrier_stiffness = 0;  // J/m^2: kappa at the end of the step (solver.barrier_stiffness_max)
   int pushed_out = 0;        // vertices moved out of the body at t before the step
   int excluded = 0;          // vertices left out of barrier contact this step (the penalty term
                              // holds them): no free place at the start (intersection_free_start.h),

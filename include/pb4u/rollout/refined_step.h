@@ -5,8 +5,9 @@
 // of the body (intersection_free_start.h), so for any number of iterations the output is
 // intersection-free (but for the vertices the start could not free, which the penalty term
 // holds) and its incremental potential, the solver's objective, is no higher than the start's
-// (the line search only takes steps that lower it). Without a body it is the solver's L-BFGS
-// from the step.
+// (the line search only takes steps that lower it; kappa stays at solver.barrier_stiffness, as
+// an adaptive one would change the potential mid-way). Without a body it is the solver's
+// L-BFGS from the step.
 #include <memory>
 
 #include "pb4u/config/config_io.h"
