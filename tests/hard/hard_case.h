@@ -1,10 +1,12 @@
 #pragma once
-// Shared pieces of the hard-case suite (issues 9, 14): models, meshes that are hard on purpose,
-// one check that a rollout stays finite and bounded frame by frame, and the SPEC 9 check
-// that a network stays bounded against the reference solver on the same scene.
+// Shared pieces of the hard-case suite (issues 9, 14, 33): models, meshes that are hard on
+// purpose, one check that a rollout stays finite and bounded frame by frame, the SPEC 9 check
+// that a network stays bounded against the reference solver on the same scene, and the shipped
+// network run three ways against it (alone, with its inference passes, refined by the solver).
 #include <optional>
 #include <string>
 
+#include "pb4u/graph/garment_topology.h"
 #include "pb4u/model/model_file.h"
 #include "pb4u/rollout/rollout.h"
 
@@ -33,6 +35,11 @@ void box_mesh(const Eigen::Vector3d& c, double h, Eigen::MatrixXd* V, Eigen::Mat
 // (vertices with y within 1e-6 of the highest) pinned when effects.pins.
 RolloutInput still_start(const TriMesh& garment, const Effects& effects, const Material& material, int steps);
 
+// Whether a check fails the test (gtest EXPECTs) or only reports its verdict in the printed
+// lines: the network alone and with its heuristic passes are measured against the same bounds
+// as the refined network, which is the one judged.
+enum class Judge { kExpect, kReport };
+
 struct Bounds {
   double max_stretch = 3.0;  // largest allowed current / rest edge length; <= 0: not checked
   // Edges only in faces of zero rest area are left out: nothing resists their stretch.
@@ -41,6 +48,9 @@ struct Bounds {
   // false: only a non-finite frame stops the rollout (finiteness-only checks, where the
   // energy may grow without bound by design: random weights).
   bool energy_guard = true;
+  // Every frame free of the body: no cloth vertex inside it, no cloth edge through a body
+  // triangle (the intersection-free solver's promise; with a body only).
+  bool intersection_free = false;
 };
 
 // Bounds with only finiteness checked.
@@ -55,14 +65,17 @@ struct RolloutFigures {
   double max_positive = 0;     // J, its largest frame
   std::optional<PenetrationSummary> penetration;  // with a body
   double seconds = 0;
+  int violations = 0;              // frames and checks outside the bounds (Judge::kReport)
+  std::string first_violation;     // what the first one was
 };
 
-// Runs the rollout and checks (gtest EXPECTs) every frame: positions and every energy
-// finite, the non-negative terms (all but gravity) >= 0, no divergence (non-finite, or the
-// input's energy guard unless bounds.energy_guard is off), every frame produced, edges within
-// bounds. Prints one "[hard] <label>: ..." line with the figures.
+// Runs the rollout and checks every frame: positions and every energy finite, the non-negative
+// terms (all but gravity) >= 0, no divergence (non-finite, or the input's energy guard unless
+// bounds.energy_guard is off), every frame produced, edges within bounds, and where asked the
+// frame free of the body. Judge::kExpect: each miss is a gtest failure; kReport: they are
+// counted and the first is printed. Prints one "[hard] <label>: ..." line with the figures.
 RolloutFigures check_rollout(const std::string& label, const RolloutInput& input, const StepFunction& step,
-                             const PhysicsConfig& physics, const Bounds& bounds = {});
+                             const PhysicsConfig& physics, const Bounds& bounds = {}, Judge judge = Judge::kExpect);
 
 // SPEC 9: a network is stable when it stays bounded against the reference solver on the same
 // scene, not merely finite. Energies are divided by the reference's with no floor: a ratio over
@@ -79,9 +92,37 @@ struct RelativeBounds {
 // J: a positive energy this small is rounding (a cloth at its rest shape reads 0 to ~1e-15 J).
 constexpr double kReferenceAtRest = 1e-12;
 
-// Checks (gtest EXPECTs) `network` against `reference`, both run on `input`, and prints one
-// "[hard] <label>: ..." line with the ratios and margins.
-void check_relative(const std::string& label, const RolloutFigures& network, const RolloutFigures& reference,
-                    const RelativeBounds& bounds = {});
+// Checks `network` against `reference`, both run on the same input, and prints one
+// "[hard] <label>: ..." line with the ratios and margins. Returns whether every bound holds;
+// Judge::kExpect also makes each miss a gtest failure.
+bool check_relative(const std::string& label, const RolloutFigures& network, const RolloutFigures& reference,
+                    const RelativeBounds& bounds = {}, Judge judge = Judge::kExpect);
+
+// The solver the network is held against: `physics` with the intersection-free contact
+// (solver.contact = barrier) where the input has a body to collide with.
+PhysicsConfig reference_physics(const PhysicsConfig& physics, const RolloutInput& in);
+
+// The reference solver's rollout on `in` (reference_physics), checked with `bounds` and, with a
+// body, intersection-free on every frame.
+RolloutFigures check_reference(const std::string& label, const RolloutInput& in, const PhysicsConfig& physics,
+                               Bounds bounds = {});
+
+// Solver iterations after each network step in the refined runs: fixed before measuring.
+constexpr int kRefineIterations = 10;
+
+struct ShippedFigures {
+  RolloutFigures alone, passes, refined;
+};
+
+// The shipped network on `in` three ways, each held against `reference` (check_relative):
+//  - alone: the model file without its inference passes (contact projection, strain limit);
+//  - with its passes: the shipped file as it is;
+//  - refined: that step, then kRefineIterations iterations of the reference solver
+//    (reference_physics), intersection-free on every frame where there is a body.
+// The refined rollout is judged (gtest EXPECTs, `bounds` and `relative`); the other two are
+// reported against the same bounds, with a verdict line each.
+ShippedFigures check_shipped(const std::string& label, const RolloutInput& in, const GarmentTopology& topology,
+                             const PhysicsConfig& physics, const RolloutFigures& reference, const Bounds& bounds,
+                             const RelativeBounds& relative = {});
 
 }  // namespace pb4u::hard
