@@ -75,11 +75,18 @@ def loss_vs_latency(rows, levels, out):
     for ax, level in zip(axes[0], levels):
         here = [r for r in rows if r["level"] == level and r["family"] != "no_body"
                 and finite(r[y]) and r[y] > 0 and finite(r["latency_ms_median"])]
-        curves = (("reference", "s-", "0.4", "reference solver", "{} it"),
-                  ("refined", "D-", "tab:green", "network + solver iterations", "+{}"),
-                  ("blender", "^-", "tab:orange", "Blender cloth", "q{}"))
-        for family, style, color, label, note in curves:
-            pts = sorted((r for r in here if r["family"] == family), key=lambda r: r["iterations"])
+        # One curve per family and, for the refined rows, per network ("MGN + 5 it" -> MGN).
+        curves = [("reference", None, "s-", "0.4", "reference solver, penalty contact", "{} it"),
+                  ("reference_barrier", None, "v-", "tab:purple", "reference solver, intersection-free", "{} it"),
+                  ("blender", None, "^-", "tab:orange", "Blender cloth", "q{}")]
+        refined_colors = ["tab:green", "tab:red", "tab:brown", "tab:olive"]
+        for name in dict.fromkeys(r["method"].rsplit(" + ", 1)[0] for r in here if r["family"] == "refined"):
+            curves.append(("refined", name, "D-", refined_colors[len(curves) % len(refined_colors)],
+                           name + " + solver iterations", "+{}"))
+        for family, base, style, color, label, note in curves:
+            pts = sorted((r for r in here if r["family"] == family
+                          and (base is None or r["method"].rsplit(" + ", 1)[0] == base)),
+                         key=lambda r: r["iterations"])
             if not pts:
                 continue
             ax.plot([r["latency_ms_median"] for r in pts], [r[y] for r in pts], style, color=color, label=label)

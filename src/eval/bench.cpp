@@ -58,6 +58,7 @@ BenchRow run_one(const Run& run, const RolloutInput& body_input, const RolloutIn
     row.K = run.k_override >= 0 ? run.k_override : run.model->model->propagation_steps_for(topology.mean_edge_length);
   } else {
     physics.solver.max_iterations = run.iterations;
+    if (run.family == "reference_barrier") physics.solver.contact = "barrier";
     step = reference_stepper(physics.solver);
   }
   RolloutResult r = run_rollout(in, step, physics);
@@ -150,6 +151,9 @@ BenchResult run_bench(const BenchConfig& config, const std::function<void(const 
     if (it < 1) throw Error("reference_iterations: budgets must be at least 1");
   for (int it : config.refine_iterations)
     if (it < 1) throw Error("refine_iterations: budgets must be at least 1");
+  for (const auto& c : config.reference_contacts)
+    if (c != "penalty" && c != "barrier")
+      throw Error("reference_contacts: unknown contact '" + c + "' (penalty | barrier)");
   for (int k : config.k_values)
     if (k < 0) throw Error("k_values: K must be non-negative");
 
@@ -220,14 +224,18 @@ BenchResult run_bench(const BenchConfig& config, const std::function<void(const 
     for (size_t i = 0; i < models.size(); ++i) runs.push_back({names[i], "network", &models[i]});
     for (int k : config.k_values) runs.push_back({method_name(pb4u->config) + " (fixed K)", "fixed_k", pb4u, k});
     for (const auto& m : ablated) runs.push_back({method_name(m.config) + " (same weights)", "ablation", &m});
-    for (int it : config.reference_iterations)
-      runs.push_back({"Reference (" + std::to_string(it) + " it)", "reference", nullptr, -1, it});
-    if (!models.empty())
+    for (const auto& contact : config.reference_contacts)
+      for (int it : config.reference_iterations)
+        runs.push_back(contact == "barrier"
+                           ? Run{"Reference barrier (" + std::to_string(it) + " it)", "reference_barrier", nullptr, -1, it}
+                           : Run{"Reference (" + std::to_string(it) + " it)", "reference", nullptr, -1, it});
+    // Every network refined the same way: MGN gets the refinement Pb4U gets.
+    for (size_t i = 0; i < models.size(); ++i)
       for (int it : config.refine_iterations)
-        runs.push_back({names[0] + " + " + std::to_string(it) + " it", "refined", &models[0], -1, it});
+        runs.push_back({names[i] + " + " + std::to_string(it) + " it", "refined", &models[i], -1, it});
     if (config.no_body_variant && effects.needs_body() && !models.empty()) {
       runs.push_back({names[0] + " (no body)", "no_body", &models[0], -1, 0, false});
-      if (!config.reference_iterations.empty())
+      if (!config.reference_iterations.empty() && !config.reference_contacts.empty())
         runs.push_back({"Reference (" + std::to_string(config.reference_iterations.back()) + " it) (no body)",
                         "no_body", nullptr, -1, config.reference_iterations.back(), false});
     }

@@ -71,9 +71,9 @@ TEST(Bench, TinyConfigWritesSpecCsvWithFiniteValues) {
   const std::vector<std::string> header{"level", "triangles", "vertices", "method", "K", "threads",
                                         "latency_ms_median", "latency_ms_min", "physics_loss"};
   EXPECT_EQ(rows[0], header);
-  // tiny.yaml: 2 levels x (2 checkpoints + 2 fixed K + 1 ablation + 1 reference + 1 refined
-  // + 2 no-body).
-  ASSERT_EQ(rows.size(), 1u + 2u * 9u);
+  // tiny.yaml: 2 levels x (2 checkpoints + 2 fixed K + 1 ablation + 2 reference (penalty and
+  // barrier contact) + 2 refined (each checkpoint) + 2 no-body).
+  ASSERT_EQ(rows.size(), 1u + 2u * 11u);
   // The shipped Pb4U's name follows its inference switches ("Pb4U + projection").
   const std::string pb4u = method_name(load_model_file(kSource + "/data/pretrained/pb4u.h5").config);
   ASSERT_EQ(pb4u.rfind("Pb4U", 0), 0u) << pb4u;
@@ -97,7 +97,9 @@ TEST(Bench, TinyConfigWritesSpecCsvWithFiniteValues) {
   EXPECT_EQ(per_method[pb4u], 2);
   EXPECT_EQ(per_method["MGN"], 2);
   EXPECT_EQ(per_method["Reference (2 it)"], 2);
+  EXPECT_EQ(per_method["Reference barrier (2 it)"], 2);  // the intersection-free contact
   EXPECT_EQ(per_method[pb4u + " + 2 it"], 2);  // refined by the solver
+  EXPECT_EQ(per_method["MGN + 2 it"], 2);      // and MGN the same way
   EXPECT_EQ(per_method[pb4u + " (no body)"], 2);
   EXPECT_EQ(per_method["Reference (2 it) (no body)"], 2);
   EXPECT_EQ(fixed_k, (std::vector<int64_t>{0, 2, 0, 2}));
@@ -116,7 +118,8 @@ TEST(Bench, TinyConfigWritesSpecCsvWithFiniteValues) {
   }
   const std::string table = test::read_file(out + "/table.txt");
   EXPECT_NE(table.find("Lv.3"), std::string::npos);
-  EXPECT_NE(table.find("at equal loss"), std::string::npos);
+  EXPECT_NE(table.find("Networks vs the reference solver (penalty contact) at equal loss"), std::string::npos);
+  EXPECT_NE(table.find("Networks vs the reference solver (intersection-free contact) at equal loss"), std::string::npos);
   EXPECT_TRUE(fs::exists(out + "/bench_config.yaml"));
 }
 
@@ -141,7 +144,8 @@ TEST(Bench, EqualLossTakesTheFastestFinishedRunAtOrBelowTheNetworksLoss) {
     r.method = method;
     r.family = family;
     r.latency_ms_median = ms;
-    r.physics_loss = loss;
+    r.positive_loss = loss;
+    r.physics_loss = loss + 1.0;  // gravity's share, the same for every method: not compared
     r.diverged = diverged;
     return r;
   };
@@ -167,6 +171,9 @@ TEST(Bench, BadConfigsFailWithTheKey) {
   r = test::run_pb4u(bench_args(out, "--set garment=cape"));
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.err.find("garment"), std::string::npos) << r.err;
+  r = test::run_pb4u(bench_args(out, "--set reference_contacts=[springs]"));
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("reference_contacts"), std::string::npos) << r.err;
   r = test::run_pb4u(bench_args(out, "--set reference_iterations=[0]"));
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.err.find("reference_iterations"), std::string::npos) << r.err;

@@ -36,8 +36,12 @@ struct BenchConfig {
   // no_propagation_control (K = K_base).
   std::vector<std::string> ablations;
   std::vector<int> reference_iterations{5, 20};  // L-BFGS budgets of the reference solver
-  std::vector<int> refine_iterations;  // the first checkpoint's steps refined by that many solver
-                                       // iterations (rollout/refined_step.h), one row each
+  // Its contact models, one row per budget each: "penalty" (rows "Reference (N it)") and
+  // "barrier", the intersection-free contact (rows "Reference barrier (N it)").
+  std::vector<std::string> reference_contacts{"penalty"};
+  std::vector<int> refine_iterations;  // every checkpoint's steps refined by that many solver
+                                       // iterations (rollout/refined_step.h, physics.solver's
+                                       // contact), one row each: "<name> + N it"
   bool no_body_variant = true;  // also run the first checkpoint with gravity only (no body)
   int stage_repeats = 7;        // frames timed for the per-stage breakdown (median)
   std::vector<int> matmul_size{36000, 384, 128};  // dense matmul the FLOP rate is compared to
@@ -64,6 +68,7 @@ struct BenchConfig {
     v("k_values", k_values);
     v("ablations", ablations);
     v("reference_iterations", reference_iterations);
+    v("reference_contacts", reference_contacts);
     v("refine_iterations", refine_iterations);
     v("no_body_variant", no_body_variant);
     v("stage_repeats", stage_repeats, int_at_least(1));

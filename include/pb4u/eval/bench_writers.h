@@ -19,7 +19,8 @@ std::string format_stages_csv(const BenchResult& result);
 // loss and the fitted latency exponents.
 std::string format_bench_table(const BenchResult& result);
 
-// The fastest run of `family` at `net`'s level whose loss is at or below the network's, or null.
+// The fastest run of `family` at `net`'s level whose positive energy (stretch + bending +
+// collision, per frame) is at or below the network's, or null.
 // A run the divergence guard stopped does not count: its loss covers only the frames before the
 // stop.
 const BenchRow* cheapest_at_equal_loss(const std::vector<BenchRow>& rows, const BenchRow& net,
