@@ -9,6 +9,7 @@
 #include <functional>
 
 #include "pb4u/mesh/edges.h"
+#include "pb4u/physics/barrier_objective.h"
 #include "pb4u/physics/carried_by_body.h"
 #include "pb4u/physics/collision_energy.h"
 #include "pb4u/physics/energy_report.h"
@@ -152,20 +153,9 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
   }
   // The vertices out of barrier contact (the start found them no free place, or the placed body
   // caught them) fall back to the penalty term (SPEC 3.3) until a later step frees them.
-  const CollisionTerm* penalty = nullptr;
-  for (const auto& term : terms)
-    if (term->name() == "collision") penalty = dynamic_cast<const CollisionTerm*>(term.get());
-  torch::Tensor fallback_rows;
-  BodyContact fallback;
+  PenaltyFallback fallback;
   auto set_fallback = [&]() {
-    if (!barrier || !penalty || !contact) return;
-    std::vector<int64_t> rows;
-    for (size_t i = 0; i < excluded.size(); ++i)
-      if (excluded[i]) rows.push_back(int64_t(i));
-    if (rows.empty()) return;
-    fallback_rows = torch::tensor(rows, torch::kInt64).to(state.x.device());
-    fallback.point = contact->point.index_select(0, fallback_rows);
-    fallback.normal = contact->normal.index_select(0, fallback_rows);
+    if (barrier) fallback = penalty_fallback(terms, contact, excluded);
   };
   set_fallback();
   auto positions = [&](const torch::Tensor& q) {
@@ -183,8 +173,7 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
     torch::Tensor E = torch::zeros({}, x.options());
     for (const auto& term : terms)
       if (!barrier || term->name() != "collision") E = E + term->energy(x, state, cloth, contact);
-    if (fallback_rows.defined())
-      E = E + collision_energy(x.index_select(0, fallback_rows), fallback, penalty->eps(), penalty->weight());
+    if (fallback.active()) E = E + fallback.energy(x);
     *grad = torch::autograd::grad({E}, {p})[0].reshape({-1});
     ++result.evaluations;
     double energy = E.item<double>();
@@ -231,9 +220,8 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
       torch::Tensor c = term->contact_stiffness(x, state, cloth, contact);
       if (c.defined()) sum = sum.defined() ? sum + c : c;
     }
-    if (fallback_rows.defined()) {  // the penalty's curvature, at the vertices it holds
-      const torch::Tensor all = penalty->contact_stiffness(x, state, cloth, contact);
-      torch::Tensor c = torch::zeros({n}, opts).index_copy(0, fallback_rows, all.index_select(0, fallback_rows));
+    if (fallback.active()) {  // the penalty's curvature, at the vertices it holds
+      const torch::Tensor c = fallback.stiffness(x, state, cloth, contact);
       sum = sum.defined() ? sum + c : c;
     }
     if (barrier) {

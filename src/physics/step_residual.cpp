@@ -2,14 +2,18 @@
 
 #include <Eigen/SparseCholesky>
 
+#include "pb4u/physics/barrier_objective.h"
+#include "pb4u/physics/barrier_potential.h"
 #include "pb4u/physics/energy_report.h"
+#include "pb4u/physics/intersection_free_start.h"
 #include "pb4u/physics/quasi_newton_hessian.h"
+#include "pb4u/physics/reference_solver.h"
 #include "pb4u/util/eigen_tensor.h"
 
 namespace pb4u {
 
 double step_residual(const torch::Tensor& x_next, const FrameState& state, const ClothGeometry& cloth,
-                     const TermList& terms, const BodyContact* contact) {
+                     const TermList& terms, const BodyContact* contact, const BarrierStepInput* barrier) {
   const int64_t n = cloth.num_vertices;
   std::vector<char> pinned(size_t(n), 0);
   if (state.effects.pins && state.pinned.defined()) {
@@ -23,17 +27,45 @@ double step_residual(const torch::Tensor& x_next, const FrameState& state, const
   if (k == 0) return 0;
 
   torch::Tensor x = x_next.detach().to(torch::kFloat64).clone().requires_grad_(true);
-  const torch::Tensor E = total_energy(terms, x, state, cloth, contact);
-  const Eigen::MatrixXd G = tensor_to_matrix(torch::autograd::grad({E}, {x})[0]);
+  // Barrier contact: the vertices not free of the body leave the barrier for the penalty term.
+  const Eigen::MatrixXd X = tensor_to_matrix(x.detach());
+  ContactSurface body;
+  ContactCandidates candidates;
+  PenaltyFallback fallback;
+  if (barrier) {
+    body = make_contact_surface(barrier->body_next, barrier->body_faces);
+    const std::vector<char> excluded =
+        vertices_not_free_of(X, barrier->cloth_edges, body.V, body.F, barrier->settings.d_hat);
+    candidates = contact_candidates(X, {}, barrier->cloth_edges, body, {}, barrier->settings.d_hat);
+    drop_pairs_of(excluded, barrier->cloth_edges, &candidates);
+    fallback = penalty_fallback(terms, contact, excluded);
+  }
+  torch::Tensor E = torch::zeros({}, x.options());
+  for (const auto& term : terms)
+    if (!barrier || term->name() != "collision") E = E + term->energy(x, state, cloth, contact);
+  E = E + fallback.energy(x);
+  Eigen::MatrixXd G = tensor_to_matrix(torch::autograd::grad({E}, {x})[0]);
+  Eigen::VectorXd barrier_curvature = Eigen::VectorXd::Zero(n);
+  if (barrier) {
+    Eigen::MatrixXd barrier_gradient = Eigen::MatrixXd::Zero(n, 3);
+    barrier_potential(X, barrier->cloth_edges, body, candidates, barrier->settings, &barrier_gradient,
+                      &barrier_curvature);
+    G += barrier_gradient;
+  }
 
   Eigen::SparseMatrix<double> H = quasi_newton_hessian(cloth, state.material, state.dt, row);
   {
     torch::NoGradGuard no_grad;
     torch::Tensor contact_curvature;
     for (const auto& term : terms) {
+      if (barrier && term->name() == "collision") continue;
       torch::Tensor c = term->contact_stiffness(x.detach(), state, cloth, contact);
       if (c.defined()) contact_curvature = contact_curvature.defined() ? contact_curvature + c : c;
     }
+    const torch::Tensor held = fallback.stiffness(x.detach(), state, cloth, contact);
+    if (held.defined()) contact_curvature = contact_curvature.defined() ? contact_curvature + held : held;
+    for (int64_t i = 0; i < n; ++i)
+      if (row[size_t(i)] >= 0) H.coeffRef(row[size_t(i)], row[size_t(i)]) += barrier_curvature(i);
     if (contact_curvature.defined()) {
       const torch::Tensor c = contact_curvature.to(torch::kCPU, torch::kFloat64).contiguous();
       for (int64_t i = 0; i < n; ++i)

@@ -200,7 +200,10 @@ RolloutResult run_rollout(const RolloutInput& in, const StepFunction& step,
       if (finite && in.measure_residual) {
         FrameState measured = state;
         measured.material = in.metric_material;
-        report.residual_mm = 1e3 * step_residual(x_next, measured, cloth, terms, contact ? &*contact : nullptr);
+        // With barrier contact, the distance to the intersection-free solver's minimum.
+        const std::optional<BarrierStepInput> barrier = barrier_step_input(state, cloth, physics.solver);
+        report.residual_mm = 1e3 * step_residual(x_next, measured, cloth, terms, contact ? &*contact : nullptr,
+                                                 barrier ? &*barrier : nullptr);
       }
     }
     if (!finite) {

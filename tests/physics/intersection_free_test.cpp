@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <random>
 
@@ -16,6 +17,7 @@
 #include "pb4u/physics/intersection_free_start.h"
 #include "pb4u/physics/primitive_distance.h"
 #include "pb4u/physics/reference_solver.h"
+#include "pb4u/physics/step_residual.h"
 #include "pb4u/rollout/refined_step.h"
 #include "pb4u/spatial/signed_distance_to_surface.h"
 #include "pb4u/util/eigen_tensor.h"
@@ -232,6 +234,35 @@ TEST(IntersectionFreeSolver, ClothDroppedOnASphereComesToRestOutsideIt) {
   EXPECT_GT(centre_y, radius * 0.99);  // the icosphere's pole is at the radius
   EXPECT_LT(centre_y, radius + 0.005);
   EXPECT_LT(kinetic, 1e-4);
+}
+
+TEST(StepResidual, BarrierContactIsMeasuredAgainstTheIntersectionFreeSolversOwnMinimum) {
+  // A cloth resting on a sphere after the intersection-free solver's steps: its contacts sit
+  // within d_hat (1 mm), where the penalty term (eps 4 mm) still pushes. Measured with the
+  // penalty energy its step reads millimetres from a minimum; with the barrier objective the
+  // solver solved, it is at the solver's tolerance. A step lifted 1 mm off the solve is not.
+  ClothOverSphere scene(0.01);
+  FrameState& state = scene.state;
+  PhysicsConfig config = barrier_config();
+  config.solver.barrier_stiffness_max = 0;  // the residual measures at the configured kappa
+  config.solver.max_iterations = 1000;
+  const TermList terms = build_terms(state.effects, config);
+  for (int frame = 0; frame < 20; ++frame) barrier_step(state, scene.cloth, config);
+  const std::optional<BodyContact> contact = body_contact_for(state, config);
+  const std::optional<BarrierStepInput> barrier = barrier_step_input(state, scene.cloth, config.solver);
+  ASSERT_TRUE(barrier.has_value());
+  const SolverResult r = solve_reference_step(state, scene.cloth, terms, &*contact, config.solver, &*barrier);
+  ASSERT_TRUE(r.converged) << r.step_norm;
+  ASSERT_EQ(r.excluded, 0);
+  const double own = step_residual(r.x_next, state, scene.cloth, terms, &*contact, &*barrier);
+  const double penalty = step_residual(r.x_next, state, scene.cloth, terms, &*contact);
+  std::printf("residual of the converged barrier step: %.3g mm on its own objective, %.3g mm on the penalty energy\n",
+              1e3 * own, 1e3 * penalty);
+  EXPECT_LT(own, 1e-5);       // m
+  EXPECT_GT(penalty, 1e-4);   // the penalty's eps is not where the barrier rests the cloth
+  torch::Tensor lifted = r.x_next.clone();
+  lifted.select(1, 1).add_(1e-3);
+  EXPECT_GT(step_residual(lifted, state, scene.cloth, terms, &*contact, &*barrier), 1e-4);
 }
 
 TEST(IntersectionFreeSolver, AdaptiveStiffnessHoldsAHeavyClothFartherOffTheBody) {

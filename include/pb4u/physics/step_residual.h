@@ -6,6 +6,11 @@
 // vertices held. 0 at the energy's minimum; the reference solver stops below its
 // step_tolerance (1e-6 m). One gradient, one sparse factorisation and one solve: any stepper's
 // output can be measured by it, the network's as well as a solver's.
+// With barrier contact (`barrier` given: solver.contact = barrier and a body) the energy is the
+// intersection-free solver's (barrier_objective.h): the barrier at kappa = its
+// barrier_stiffness over the pairs of the vertices free of the body at t + dt, the penalty term
+// on the others, instead of the penalty term everywhere (whose eps a cloth resting within the
+// barrier's d_hat never meets).
 #include <torch/torch.h>
 
 #include "pb4u/physics/body_queries.h"
@@ -13,9 +18,11 @@
 
 namespace pb4u {
 
+struct BarrierStepInput;
+
 // m. terms: build_terms(state.effects, ...); contact: body_contact_for(state, ...) or null.
 // state.material is the material the energy is measured with.
 double step_residual(const torch::Tensor& x_next, const FrameState& state, const ClothGeometry& cloth,
-                     const TermList& terms, const BodyContact* contact);
+                     const TermList& terms, const BodyContact* contact, const BarrierStepInput* barrier = nullptr);
 
 }  // namespace pb4u
