@@ -72,8 +72,10 @@ void add_simulate_command(CLI::App& app, const GlobalOptions& global) {
     SimulateResult r = simulate(scene, args->scene, model ? &*model : nullptr, args->out);
     std::string inside;
     if (r.with_body)
-      inside = fmt::format("; inside the body mean {:.2f}%, max {:.2f}% (deepest {:.1f} mm)", 100 * r.penetrating_mean,
-                           100 * r.penetrating_max, r.deepest_mm);
+      inside = fmt::format("; inside the body mean {:.2f}%, max {:.2f}% (deepest {:.1f} mm), cloth edges through it "
+                           "on {} frames (at most {})",
+                           100 * r.penetrating_mean, 100 * r.penetrating_max, r.deepest_mm, r.edges_through_frames,
+                           r.edges_through_max);
     if (r.barrier_contact)
       inside += fmt::format("; {} frames left cloth out of barrier contact (at most {} vertices)", r.excluded_frames,
                             r.excluded_max);

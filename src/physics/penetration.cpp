@@ -34,7 +34,9 @@ PenetrationSummary summarize_penetration(const std::vector<PenetrationFigures>& 
   if (frames.empty()) throw Error("penetration: no frame to summarise");
   // A frame is a one-frame summary.
   std::vector<PenetrationSummary> each;
-  for (const auto& f : frames) each.push_back({f.penetrating_fraction, f.penetrating_fraction, f.max_penetration_mm});
+  for (const auto& f : frames)
+    each.push_back({f.penetrating_fraction, f.penetrating_fraction, f.max_penetration_mm, f.edges_through,
+                    f.edges_through > 0 ? 1 : 0});
   return summarize_penetration(each);
 }
 
@@ -45,6 +47,8 @@ PenetrationSummary summarize_penetration(const std::vector<PenetrationSummary>& 
     s.penetrating_fraction += q.penetrating_fraction / double(sequences.size());
     s.max_penetrating_fraction = std::max(s.max_penetrating_fraction, q.max_penetrating_fraction);
     s.max_penetration_mm = std::max(s.max_penetration_mm, q.max_penetration_mm);
+    s.max_edges_through = std::max(s.max_edges_through, q.max_edges_through);
+    s.frames_with_edges_through += q.frames_with_edges_through;
   }
   return s;
 }

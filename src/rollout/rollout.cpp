@@ -7,6 +7,8 @@
 #include <cmath>
 
 #include "pb4u/data/lbs_frame.h"
+#include "pb4u/mesh/edges.h"
+#include "pb4u/physics/barrier_potential.h"
 #include "pb4u/physics/cloth_geometry.h"
 #include "pb4u/physics/reference_solver.h"
 #include "pb4u/physics/step_constraints.h"
@@ -177,6 +179,7 @@ RolloutResult run_rollout(const RolloutInput& in, const StepFunction& step,
   TermList terms = build_terms(in.effects, physics);
 
   const bool measure_penetration = !in.body.empty();
+  const Eigen::MatrixXi garment_edges = measure_penetration ? unique_edges(in.garment_rest.F) : Eigen::MatrixXi();
   RolloutResult result;
   double start_positive = 0;  // frame 1's positive energy (J): the divergence guard's start
   for (int frame = 1; frame <= in.steps; ++frame) {
@@ -217,6 +220,8 @@ RolloutResult run_rollout(const RolloutInput& in, const StepFunction& step,
     std::optional<PenetrationFigures> penetration;
     if (measure_penetration) {
       penetration = garment_penetration(x, in.body[frame], in.body_faces);
+      penetration->edges_through = int(
+          cloth_edges_through_body(x, garment_edges, make_contact_surface(in.body[frame], in.body_faces)).size());
       result.penetration.push_back(*penetration);
     }
     result.reports.push_back(report);

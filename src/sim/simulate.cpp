@@ -84,6 +84,7 @@ SimulateResult simulate(const SceneConfig& scene, const std::string& scene_path,
   if (body_written) {
     zero.emplace_back("penetrating_fraction", nan);
     zero.emplace_back("max_penetration_mm", nan);
+    zero.emplace_back("edges_through_body", nan);
   }
   if (barrier_columns) {
     zero.emplace_back("contact_excluded", nan);
@@ -105,6 +106,7 @@ SimulateResult simulate(const SceneConfig& scene, const std::string& scene_path,
                                   if (penetration) {
                                     row.emplace_back("penetrating_fraction", penetration->penetrating_fraction);
                                     row.emplace_back("max_penetration_mm", penetration->max_penetration_mm);
+                                    row.emplace_back("edges_through_body", penetration->edges_through);
                                   }
                                   if (barrier_columns) {
                                     row.emplace_back("contact_excluded", contact_log->excluded);
@@ -139,6 +141,8 @@ SimulateResult simulate(const SceneConfig& scene, const std::string& scene_path,
     result.penetrating_mean = s.penetrating_fraction;
     result.penetrating_max = s.max_penetrating_fraction;
     result.deepest_mm = s.max_penetration_mm;
+    result.edges_through_max = s.max_edges_through;
+    result.edges_through_frames = s.frames_with_edges_through;
   }
   for (double ms : r.step_ms) result.step_ms_mean += ms / r.step_ms.size();
   for (const EnergyReport& report : r.reports) {

@@ -187,11 +187,19 @@ TEST(Stability, SimulateWritesPenetrationColumnsWithABody) {
   std::getline(csv, header);
   EXPECT_EQ(header,
             "frame,stretch,bending,collision,inertia,gravity,friction,total,residual_mm,penetrating_fraction,"
-            "max_penetration_mm");
+            "max_penetration_mm,edges_through_body");
   std::getline(csv, row);  // frame 0: not computed
   EXPECT_EQ(row.substr(row.rfind(',') + 1), "nan");
-  std::getline(csv, row);
-  EXPECT_NE(row.substr(row.rfind(',') + 1), "nan") << row;
+  int through = 0, frames_with = 0;
+  while (std::getline(csv, row)) {
+    const std::string last = row.substr(row.rfind(',') + 1);
+    EXPECT_NE(last, "nan") << row;
+    EXPECT_GE(std::stod(last), 0) << row;
+    through = std::max(through, int(std::stod(last)));
+    frames_with += std::stod(last) > 0;
+  }
+  EXPECT_EQ(r.edges_through_max, through);  // the summary agrees with the rows
+  EXPECT_EQ(r.edges_through_frames, frames_with);
 }
 
 TEST(Stability, TheIntersectionFreeSolverReportsPerFrameTheClothItLeftOutOfContact) {
@@ -220,7 +228,7 @@ TEST(Stability, TheIntersectionFreeSolverReportsPerFrameTheClothItLeftOutOfConta
   s.physics.solver.contact = "penalty";
   const SimulateResult p = simulate(s, "scene.yaml", nullptr, out + "/penalty");
   EXPECT_FALSE(p.barrier_contact);
-  EXPECT_EQ(test::read_csv(out + "/penalty/energies.csv")[0].back(), "max_penetration_mm");
+  EXPECT_EQ(test::read_csv(out + "/penalty/energies.csv")[0].back(), "edges_through_body");
 }
 
 TEST(Stability, MethodPenaltyRunsThePenaltySolverWhateverTheScenesContact) {
@@ -234,7 +242,7 @@ TEST(Stability, MethodPenaltyRunsThePenaltySolverWhateverTheScenesContact) {
     ASSERT_EQ(r.exit_code, 0) << r.err;
   }
   EXPECT_EQ(test::read_csv(dir + "/reference/energies.csv")[0].back(), "body_lag_mm");  // barrier, as the scene says
-  EXPECT_EQ(test::read_csv(dir + "/penalty/energies.csv")[0].back(), "max_penetration_mm");
+  EXPECT_EQ(test::read_csv(dir + "/penalty/energies.csv")[0].back(), "edges_through_body");
 }
 
 TEST(Stability, SimulateStopsOnTheEnergyGuardFromTheCommandLine) {

@@ -8,6 +8,7 @@
 
 #include "pb4u/mesh/closest_point_on_triangle.h"
 #include "pb4u/physics/penetration.h"
+#include "pb4u/rollout/rollout.h"
 #include "pb4u/spatial/signed_distance_to_surface.h"
 #include "pb4u/util/error.h"
 #include "mesh/corner_tetrahedron.h"
@@ -154,6 +155,34 @@ TEST(Penetration, BadInputIsAnError) {
   flat.row(1) = flat.row(0);
   flat.row(2) = flat.row(0);
   EXPECT_THROW(signed_distance_to_surface(Eigen::MatrixXd::Zero(1, 3), flat, t.F), Error);
+}
+
+TEST(Penetration, TheRolloutCountsClothEdgesThroughTheBodyWithBothEndsOutside) {
+  // A triangle whose bottom edge runs straight through a 2 cm sphere, its three corners outside:
+  // no vertex is inside, one edge is through, on every frame of a rollout that holds it still.
+  const TriMesh sphere = test::icosphere(0.02, 2, Eigen::RowVector3d::Zero());
+  RolloutInput in;
+  in.garment_rest.V.resize(3, 3);
+  in.garment_rest.V << -0.05, 0, 0, 0.05, 0, 0, 0, 0.1, 0;
+  in.garment_rest.F.resize(1, 3);
+  in.garment_rest.F << 0, 1, 2;
+  in.x0 = in.x_prev = in.garment_rest.V;
+  in.steps = 2;
+  in.body.assign(in.steps + 1, sphere.V);
+  in.body_faces = sphere.F;
+  in.measure_residual = false;
+  const StepFunction hold = [](const FrameState& s, const ClothGeometry&, const TermList&, const BodyContact*) {
+    return s.x.to(torch::kFloat64);
+  };
+  const RolloutResult r = run_rollout(in, hold, PhysicsConfig{});
+  ASSERT_EQ(r.penetration.size(), 2u);
+  for (const PenetrationFigures& f : r.penetration) {
+    EXPECT_EQ(f.penetrating_fraction, 0);
+    EXPECT_EQ(f.edges_through, 1);
+  }
+  const PenetrationSummary s = summarize_penetration(r.penetration);
+  EXPECT_EQ(s.max_edges_through, 1);
+  EXPECT_EQ(s.frames_with_edges_through, 2);
 }
 
 }  // namespace

@@ -12,6 +12,9 @@ namespace pb4u {
 struct PenetrationFigures {
   double penetrating_fraction = 0;  // share of garment vertices with signed distance < 0
   double max_penetration_mm = 0;    // mm: depth of the deepest one; 0 when none is inside
+  // Cloth edges through a body triangle (barrier_potential.h's cloth_edges_through_body): an
+  // edge whose ends are both outside can still cut a limb. Set by the rollout; -1: not measured.
+  int edges_through = -1;
 };
 
 // garment: n x 3 (m); body_V: nb x 3 (m); body_F: mb x 3, closed and outward. Vertices outside
@@ -25,6 +28,8 @@ struct PenetrationSummary {
   double penetrating_fraction = 0;      // mean over frames of the penetrating fraction
   double max_penetrating_fraction = 0;  // its largest value on a frame
   double max_penetration_mm = 0;        // mm: the deepest penetration on any frame
+  int max_edges_through = -1;           // most cloth edges through the body on a frame (-1: not measured)
+  int frames_with_edges_through = 0;    // frames with at least one
 };
 
 // Over the frames of a sequence. Throws pb4u::Error when empty.

@@ -22,6 +22,7 @@ struct SimulateResult {
   double positive_mean = 0, positive_max = 0;
   bool with_body = false;
   double penetrating_mean = 0, penetrating_max = 0, deepest_mm = 0;
+  int edges_through_max = 0, edges_through_frames = 0;  // cloth edges through the body: most on a frame, frames with any
   double step_ms_mean = 0;
   double residual_mm_mean = 0, residual_mm_max = 0;  // EnergyReport::residual_mm over the frames
   // The intersection-free reference solver (solver.contact = barrier, with a body): frames that
