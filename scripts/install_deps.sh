@@ -2,7 +2,10 @@
 # Installs the Debian packages pb4u builds and runs with, if any is missing.
 # Quiet when everything is there. Needs root (apt-get); otherwise prints the command.
 #   scripts/install_deps.sh            what pb4u builds and runs with
-#   scripts/install_deps.sh --blender  also Blender (~300 MB), for bench's Blender rows
+#   scripts/install_deps.sh --blender  also Blender (~300 MB), for bench's Blender rows and the
+#                                      add-on's test (scripts/blender/pb4u_addon)
+#   scripts/install_deps.sh --tinyusdz also node and the npm package tinyusdz (~3 MB, into
+#                                      ~/.cache/pb4u/node), the independent USD reader of the tests
 set -euo pipefail
 
 PACKAGES=(
@@ -21,7 +24,11 @@ PACKAGES=(
 for arg in "$@"; do
   case $arg in
     --blender) PACKAGES+=(blender) ;;
-    *) echo "usage: scripts/install_deps.sh [--blender]" >&2; exit 2 ;;
+    --tinyusdz)  # Debian's nodejs and npm, unless a node and npm are already on PATH
+      command -v node >/dev/null || PACKAGES+=(nodejs)
+      command -v npm >/dev/null || PACKAGES+=(npm)
+      TINYUSDZ=1 ;;
+    *) echo "usage: scripts/install_deps.sh [--blender] [--tinyusdz]" >&2; exit 2 ;;
   esac
 done
 
@@ -40,6 +47,12 @@ if [ ${#missing[@]} -gt 0 ]; then
   export DEBIAN_FRONTEND=noninteractive
   apt-get update -qq
   apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi
+
+# TinyUSDZ's WebAssembly build, where tests/io/usd_tinyusdz_test.cpp looks for it.
+if [ "${TINYUSDZ:-0}" = 1 ] && [ ! -f "$HOME/.cache/pb4u/node/node_modules/tinyusdz/tinyusdz.wasm" ]; then
+  echo "pb4u: installing the npm package tinyusdz into $HOME/.cache/pb4u/node"
+  npm install --silent --no-audit --no-fund --prefix "$HOME/.cache/pb4u/node" tinyusdz@0.9.0-rc10
 fi
 
 # libblas.so.3 must be OpenBLAS, not the reference implementation.

@@ -46,11 +46,11 @@ ScoreInput score_input(const ScoreArgs& a) {
     if (!a.body.empty()) body.faces = read_mesh_in_file_order(a.body).F;
     if (body.faces.rows() == 0)
       throw Error(a.body_frames + ": a point cache has no faces: give the body mesh with --body");
-  } else if (file_extension(a.frames) == ".h5") {
+  } else if (file_extension(a.frames) == ".h5" || file_extension(a.frames) == ".usda") {
     try {
       body = read_frame_sequence(a.frames, "body");
     } catch (const Error&) {
-      body = FrameSequence{};  // a rollout without a body
+      body = FrameSequence{};  // a rollout or cache without a body
     }
   }
   in.body = std::move(body.frames);
@@ -110,19 +110,20 @@ void add_score_command(CLI::App& app, const GlobalOptions& global) {
       "Measure a cloth sequence from any tool (pb4u, Blender, ...) with the SPEC 3 terms, per frame\n"
       "and per sequence, with the same code as evaluate: stretch, bending, gravity, inertia and,\n"
       "with a body, collision, friction and the share of vertices inside the body. Frames: a PC2\n"
-      "cache, simulate's rollout.h5, or a numbered OBJ/PLY sequence in the rest mesh's vertex\n"
-      "order. Material, effects and fps from --scene or --config/--set (SPEC 2 defaults).\n"
+      "cache, simulate's rollout.h5 or scene.usda (its Garment and Body meshes), or a numbered\n"
+      "OBJ/PLY sequence in the rest mesh's vertex order. Material, effects and fps from --scene\n"
+      "or --config/--set (SPEC 2 defaults).\n"
       "Scoring simulate's own output reproduces its energies.csv.");
   auto args = std::make_shared<ScoreArgs>();
   cmd->add_option("--frames,-f", args->frames,
-                  "The garment's frames: file.pc2, rollout.h5, or garment_%04d.obj / garment_*.ply")
+                  "The garment's frames: file.pc2, rollout.h5, scene.usda, or garment_%04d.obj / garment_*.ply")
       ->required();
   cmd->add_option("--garment,-g", args->garment,
                   "Rest mesh (OBJ/PLY, same vertex order; default: rollout.h5's, or the scene's)");
   cmd->add_option("--prev", args->previous,
                   "The garment one frame before frame 0 (OBJ/PLY; default: rollout.h5's, else frame 0 itself, "
                   "i.e. starting at rest)");
-  cmd->add_option("--body-frames", args->body_frames, "The body's frames (PC2, rollout.h5, numbered OBJ/PLY)");
+  cmd->add_option("--body-frames", args->body_frames, "The body's frames (PC2, rollout.h5, .usda, numbered OBJ/PLY)");
   cmd->add_option("--body", args->body, "The body mesh giving a body PC2 its faces (OBJ/PLY, same vertex order)");
   cmd->add_option("--scene,-s", args->scene,
                   "A scene (configs/scenes/*.yaml): material, effects and physics, and the body and rest "

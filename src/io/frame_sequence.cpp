@@ -13,6 +13,7 @@
 #include "pb4u/io/hdf5_file.h"
 #include "pb4u/io/mesh_io.h"
 #include "pb4u/io/point_cache.h"
+#include "pb4u/io/usd_cache.h"
 #include "pb4u/util/error.h"
 
 namespace pb4u {
@@ -299,6 +300,27 @@ FrameSequence read_rollout_h5(const std::string& path, const std::string& group)
   return seq;
 }
 
+// The Mesh prim named like `group` (case ignored); for the garment, also the only Mesh of a file.
+FrameSequence read_usd_mesh(const std::string& path, const std::string& group) {
+  UsdCache cache = read_usd_cache(path);
+  const auto lower = [](std::string s) {
+    std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
+    return s;
+  };
+  UsdMeshSequence* found = cache.meshes.size() == 1 && lower(group) == "garment" ? &cache.meshes[0] : nullptr;
+  std::string names;
+  for (UsdMeshSequence& m : cache.meshes) {
+    if (lower(m.name) == lower(group)) found = &m;
+    names += (names.empty() ? "" : ", ") + m.name;
+  }
+  if (!found)
+    fail_file(path, "no Mesh prim named '" + group + "' (its meshes: " + (names.empty() ? "none" : names) + ")");
+  FrameSequence seq;
+  seq.frames = std::move(found->frames);
+  seq.faces = std::move(found->faces);
+  return seq;
+}
+
 }  // namespace
 
 TriMesh read_mesh_in_file_order(const std::string& path) {
@@ -320,6 +342,8 @@ FrameSequence read_frame_sequence(const std::string& source, const std::string& 
   } else if (!pattern && (ext == ".h5" || ext == ".hdf5")) {
     if (!fs::exists(source)) fail_file(source, "no such file");
     seq = read_rollout_h5(source, group);
+  } else if (!pattern && ext == ".usda") {
+    seq = read_usd_mesh(source, group);
   } else if (pattern) {
     for (const std::string& file : numbered_files(source)) {
       TriMesh m = read_mesh_in_file_order(file);
@@ -330,7 +354,7 @@ FrameSequence read_frame_sequence(const std::string& source, const std::string& 
       seq.frames.push_back(std::move(m.V));
     }
   } else {
-    fail_file(source, "not a frame sequence: give a .pc2, a rollout .h5, or a numbered OBJ/PLY pattern "
+    fail_file(source, "not a frame sequence: give a .pc2, a rollout .h5, a .usda, or a numbered OBJ/PLY pattern "
                       "(garment_%04d.obj or garment_*.obj)");
   }
   if (seq.frames.empty()) fail_file(source, "holds no frames");

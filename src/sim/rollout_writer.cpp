@@ -6,6 +6,7 @@
 #include "pb4u/io/hdf5_file.h"
 #include "pb4u/io/mesh_io.h"
 #include "pb4u/io/point_cache.h"
+#include "pb4u/io/usd_cache.h"
 #include "pb4u/util/atomic_file.h"
 #include "pb4u/util/error.h"
 
@@ -99,6 +100,14 @@ std::vector<std::string> RolloutWriter::finish() {
       write_pc2(dir_ + "/body.pc2", body_frames_);
       written_.push_back(dir_ + "/body.pc2");
     }
+  }
+  if (outputs_.usd_cache && !garment_frames_.empty()) {
+    UsdCache usd;
+    usd.fps = outputs_.fps;
+    usd.meshes.push_back({"Garment", garment_faces_, garment_frames_, Eigen::Vector3d(0.85, 0.33, 0.22)});
+    if (has_body) usd.meshes.push_back({"Body", body_faces_, body_frames_, Eigen::Vector3d(0.72, 0.72, 0.75)});
+    write_usd_cache(dir_ + "/scene.usda", usd);
+    written_.push_back(dir_ + "/scene.usda");
   }
   if (outputs_.energies_csv) {
     AtomicFile csv(dir_ + "/energies.csv");

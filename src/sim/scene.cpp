@@ -11,6 +11,7 @@
 #include "pb4u/garment/garment_template.h"
 #include "pb4u/garment/import_garment.h"
 #include "pb4u/garment/skin_weight_transfer.h"
+#include "pb4u/io/frame_sequence.h"
 #include "pb4u/io/mesh_io.h"
 #include "pb4u/mesh/topology.h"
 #include "pb4u/scene/pins.h"
@@ -88,15 +89,19 @@ TriMesh square_cloth(double size, int res, double height) {
 SceneSetup build_scene(const SceneConfig& scene, const std::string& where) {
   SceneSetup s;
   s.effects = Effects::from_names(scene.effects, where + ": effects");
-  const bool has_body = !scene.body.dataset.empty();
+  // A body: a dataset's, skinned and moved by a motion, or a mesh sequence (body.mesh_sequence).
+  const bool skeleton_body = !scene.body.dataset.empty(), sequence_body = !scene.body.mesh_sequence.empty();
+  const bool has_body = skeleton_body || sequence_body;
+  if (skeleton_body && sequence_body)
+    throw Error(where + ": body: give body.dataset or body.mesh_sequence, not both");
   if (s.effects.needs_body() && !has_body)
     throw Error(where + ": effects: collision/friction need a body, and body.dataset is empty");
 
   Dataset data;
   const BodyRecord* record = nullptr;
-  const bool need_dataset = has_body || scene.garment.source == "template";
+  const bool need_dataset = skeleton_body || scene.garment.source == "template";
   if (need_dataset) {
-    const std::string path = resolve(has_body ? scene.body.dataset : scene.garment.dataset, where);
+    const std::string path = resolve(skeleton_body ? scene.body.dataset : scene.garment.dataset, where);
     if (path.empty()) throw Error(where + ": garment.dataset: a template garment needs a generated dataset");
     data = read_dataset(path);
     record = data.find_body(scene.body.name);
@@ -123,7 +128,7 @@ SceneSetup build_scene(const SceneConfig& scene, const std::string& where) {
       fail_file(path, "the garment is not manifold (" + std::to_string(manifold.nonmanifold_edges) +
                           " edges with more than two faces, " + std::to_string(manifold.nonmanifold_vertices) +
                           " non-manifold vertices); repair it first");
-    if (has_body) garment.weights = garment_skin_weights(garment.mesh, record->body, GarmentTemplateConfig{}.skin_weight_options());
+    if (skeleton_body) garment.weights = garment_skin_weights(garment.mesh, record->body, GarmentTemplateConfig{}.skin_weight_options());
   } else {
     garment.name = "square";
     garment.mesh = square_cloth(g.size, g.resolution, g.height);
@@ -131,12 +136,12 @@ SceneSetup build_scene(const SceneConfig& scene, const std::string& where) {
   s.garment = garment.mesh;
   s.x0 = s.x_prev = garment.mesh.V;
 
-  const bool skinned = has_body && garment.weights.rows() == garment.mesh.V.rows();
+  const bool skinned = skeleton_body && garment.weights.rows() == garment.mesh.V.rows();
   // Pins riding on the body: asked for, or a garment held at the waist (scene/waistband.h).
   const bool waistband = skinned && scene.waistband.holds(garment.name);
-  if (has_body && scene.pins.on_body && !skinned)
+  if (skeleton_body && scene.pins.on_body && !skinned)
     throw Error(where + ": pins.on_body: the garment has no skinning weights to follow the body with");
-  if (has_body) {
+  if (skeleton_body) {
     const Body& body = record->body;
     Motion motion = scene_motion(scene.body, data, body, scene.frames, where);
     if (skinned) {
@@ -150,6 +155,14 @@ SceneSetup build_scene(const SceneConfig& scene, const std::string& where) {
       s.body.push_back(pose_body(body, motion.frames[std::min(t, motion.num_frames() - 1)]));
     if (waistband || (scene.pins.on_body && s.effects.pins))
       s.pin_targets = skinned_pin_targets(body, garment, motion, 0, s.body, scene.body.push_out_gap);
+  } else if (sequence_body) {
+    const std::string path = resolve(scene.body.mesh_sequence, where);
+    FrameSequence seq = read_frame_sequence(path, "body");
+    if (seq.faces.rows() == 0)
+      fail_file(path, "body.mesh_sequence: a point cache has no faces; give numbered OBJ/PLY meshes or a .usda");
+    s.body_faces = seq.faces;
+    for (int t = 0; t <= scene.frames; ++t) s.body.push_back(seq.frames[std::min<size_t>(t, seq.frames.size() - 1)]);
+    if (scene.pins.on_body && s.effects.pins) s.pin_targets = nearest_body_vertex_pin_targets(s.x0, s.body);
   }
 
   if (scene.pins.top_band > 0) s.pinned = top_band_vertices(s.x0, scene.pins.top_band);

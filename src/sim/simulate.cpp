@@ -47,12 +47,13 @@ SimulateResult simulate(const SceneConfig& scene, const std::string& scene_path,
   RolloutOutputs outputs;
   outputs.mesh_format = scene.outputs.mesh_format;
   outputs.point_cache = scene.outputs.point_cache;
+  outputs.usd_cache = scene.outputs.usd;
   outputs.hdf5 = scene.outputs.hdf5;
   outputs.energies_csv = scene.outputs.energies_csv;
   const bool body_written = !setup.body.empty();
-  RolloutWriter writer(out_dir, setup.garment.F, body_written ? setup.body_faces : Eigen::MatrixXi(), outputs);
-
   RolloutInput in = scene_rollout_input(scene, setup);
+  outputs.fps = 1.0 / in.dt;
+  RolloutWriter writer(out_dir, setup.garment.F, body_written ? setup.body_faces : Eigen::MatrixXi(), outputs);
 
   GarmentTopology topology;
   StepFunction step;

@@ -44,7 +44,7 @@ TEST(RolloutWriter, WritesEveryFrameInEveryFormat) {
     w.add_frame(x, b.V, {{"stretch", 0.5 * t}, {"total", 1.0 * t}});
   }
   auto files = w.finish();
-  EXPECT_EQ(files.size(), 3u * 2 + 2 + 1 + 1);
+  EXPECT_EQ(files.size(), 3u * 2 + 2 + 1 + 1 + 1);  // frames, PC2s, scene.usda, h5, csv
   for (const auto& f : files) EXPECT_TRUE(std::filesystem::exists(f)) << f;
   EXPECT_EQ(read_pc2(dir + "/garment.pc2").size(), 3u);
   EXPECT_NEAR(read_pc2(dir + "/garment.pc2")[2](0, 1), -0.2, 1e-6);
@@ -59,6 +59,7 @@ TEST(RolloutWriter, NoBodyMeansNoBodyFiles) {
   w.add_frame(g.V, Eigen::MatrixXd(), {{"stretch", 0.0}});
   w.finish();
   EXPECT_FALSE(std::filesystem::exists(dir + "/body.pc2"));
+  EXPECT_EQ(test::read_file(dir + "/scene.usda").find("def Mesh \"Body\""), std::string::npos);
   EXPECT_FALSE(std::filesystem::exists(frame_file(dir, "body", 0, "obj")));
   EXPECT_TRUE(std::filesystem::exists(frame_file(dir, "garment", 0, "obj")));
 }

@@ -1,6 +1,6 @@
 #pragma once
 // Cloth (or body) frames from any tool, in the mesh's own vertex order: a PC2 point cache,
-// a pb4u rollout.h5, or a numbered OBJ/PLY sequence. What `pb4u score` reads.
+// a pb4u rollout.h5, a USD text cache, or a numbered OBJ/PLY sequence. What `pb4u score` reads.
 #include <Eigen/Core>
 #include <string>
 #include <vector>
@@ -25,6 +25,9 @@ struct FrameSequence {
 // `source` is one of:
 //  - "<file>.pc2": a Point Cache 2 file;
 //  - "<file>.h5": a rollout written by `pb4u simulate` (`group`: "garment" or "body");
+//  - "<file>.usda": a USD text cache (simulate's scene.usda, or another tool's): the Mesh prim
+//    named like `group` ("garment" reads /pb4u/Garment; case is ignored; "garment" also reads
+//    the only Mesh of a file that has one); its time samples are the frames, with its faces;
 //  - a numbered mesh sequence: a printf pattern ("out/garment_%04d.obj") or a glob with one
 //    '*' ("out/garment_*.obj"); frames in numeric order from the first file found.
 // Every frame must have the same vertex count. Throws pb4u::Error naming the file and the frame.

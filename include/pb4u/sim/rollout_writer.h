@@ -1,7 +1,7 @@
 #pragma once
 // Everything `simulate` writes, frame by frame: garment (and body) meshes per frame as OBJ
-// or PLY, a PC2 point cache per mesh, one HDF5 with all frames (float64), and per-frame
-// energies as CSV. Each file is written atomically; finish() can run after a failure and keeps every
+// or PLY, a PC2 point cache per mesh, a USD cache of both meshes (scene.usda), one HDF5 with
+// all frames (float64), and per-frame energies as CSV. Each file is written atomically; finish() can run after a failure and keeps every
 // frame written so far.
 #include <Eigen/Core>
 #include <string>
@@ -13,9 +13,10 @@ namespace pb4u {
 struct RolloutOutputs {
   std::string mesh_format = "obj";  // obj | ply | none: one file per frame and mesh
   bool point_cache = true;          // garment.pc2 (+ body.pc2)
+  bool usd_cache = true;            // scene.usda: prims /pb4u/Garment (+ /pb4u/Body)
   bool hdf5 = true;                 // rollout.h5
   bool energies_csv = true;         // energies.csv
-  double fps = 30.0;
+  double fps = 30.0;                // frames per second of rollout.h5 and scene.usda
 };
 
 class RolloutWriter {

@@ -44,7 +44,13 @@ struct SceneGarment {
 };
 
 struct SceneBody {
-  std::string dataset;  // generated dataset holding the body; "" = no body
+  std::string dataset;  // generated dataset holding the body; "" = no body (unless mesh_sequence)
+  // Instead of a dataset's body and motion: the body as a mesh sequence, frame t of the scene
+  // on its t-th mesh (any source read_frame_sequence reads with faces: garment_%04d.obj-style
+  // OBJ/PLY numbers, a .usda, a rollout .h5), m, y up. A shorter sequence holds its last mesh.
+  // The garment starts where its file puts it (no skinning: pins.on_body follows the nearest
+  // body vertex).
+  std::string mesh_sequence;
   std::string name = "mannequin";
   // A motion of the dataset by name, "procedural:<kind>" (walk, run, jump, arm_raise,
   // torso_twist, spin) or a BVH file for the body's skeleton.
@@ -56,6 +62,7 @@ struct SceneBody {
   template <class V>
   void visit(V& v) {
     v("dataset", dataset);
+    v("mesh_sequence", mesh_sequence);
     v("name", name);
     v("motion", motion);
     v("speed", speed, positive());
@@ -68,8 +75,9 @@ struct SceneBody {
 struct ScenePins {
   double top_band = 0.0;     // m: pin the vertices within this distance of the highest one
   std::vector<int> vertices;  // and these
-  // With a body: the pinned vertices ride on it (the garment skinned to each frame) instead of
-  // holding their start positions.
+  // With a body: the pinned vertices ride on it (the garment skinned to each frame, or with
+  // body.mesh_sequence each keeps its offset to the nearest body vertex) instead of holding
+  // their start positions.
   bool on_body = false;
   template <class V>
   void visit(V& v) {
@@ -82,12 +90,14 @@ struct ScenePins {
 struct SceneOutputs {
   std::string mesh_format = "obj";  // obj | ply | none
   bool point_cache = true, hdf5 = true, energies_csv = true, plot = true;
+  bool usd = true;      // scene.usda: garment and body with time-sampled points (io/usd_cache.h)
   bool preview = true;  // preview.png: a contact sheet of the garment (and body)
   template <class V>
   void visit(V& v) {
     v("mesh_format", mesh_format, one_of({"obj", "ply", "none"}));
     v("preview", preview);
     v("point_cache", point_cache);
+    v("usd", usd);
     v("hdf5", hdf5);
     v("energies_csv", energies_csv);
     v("plot", plot);
