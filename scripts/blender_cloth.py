@@ -206,4 +206,5 @@ def main():
     print(f"blender_cloth: wrote {len(frames)} frames to {a.out}; median {median:.2f} ms per frame", flush=True)
 
 
-main()
+if __name__ == "__main__":  # blender -P runs it as __main__; the add-on's test imports make_object
+    main()

@@ -121,7 +121,19 @@ SceneSetup build_scene(const SceneConfig& scene, const std::string& where) {
     if (g.file.empty()) throw Error(where + ": garment.file: required for source file");
     const std::string path = resolve(g.file, where);
     garment.name = fs::path(path).stem().string();
-    garment.mesh = g.triangles > 0 ? import_garment(path, g.triangles) : read_mesh(path);
+    if (g.keep_vertex_order && g.triangles > 0)
+      throw Error(where + ": garment.keep_vertex_order: a remeshed garment (garment.triangles > 0) has new vertices");
+    garment.mesh = g.keep_vertex_order ? read_mesh_in_file_order(path)
+                   : g.triangles > 0   ? import_garment(path, g.triangles)
+                                       : read_mesh(path);
+    if (g.keep_vertex_order) {  // read as listed: a loose vertex would be cloth without mass
+      std::vector<char> on_face(garment.mesh.V.rows(), 0);
+      for (Eigen::Index i = 0; i < garment.mesh.F.size(); ++i) on_face[garment.mesh.F.data()[i]] = 1;
+      const auto loose = std::find(on_face.begin(), on_face.end(), 0);
+      if (loose != on_face.end())
+        fail_file(path, "vertex " + std::to_string(loose - on_face.begin()) +
+                            " is on no face; delete the loose vertices (garment.keep_vertex_order keeps every vertex)");
+    }
     // Bending needs two faces per interior edge, the network a fan per vertex.
     const ManifoldReport manifold = check_manifold(garment.mesh.F, garment.mesh.num_vertices());
     if (!manifold.manifold())

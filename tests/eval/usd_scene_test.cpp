@@ -147,6 +147,38 @@ TEST(UsdScene, ScoreReadsTheUsdCacheLikeThePointCachesAndTheObjFrames) {
   }
 }
 
+// garment.keep_vertex_order: vertex i of the outputs is vertex i of the file (what a DCC's
+// point cache needs); the default import orders them by first use in the faces.
+TEST(UsdScene, KeepVertexOrderKeepsTheFilesVertices) {
+  const std::string dir = test::temp_dir("keep_order");
+  TriMesh cloth = test::grid_mesh(3, 0.3);
+  cloth.V.col(1).array() += 1.0;
+  cloth.F = cloth.F.colwise().reverse().eval();  // the last vertices are used first
+  write_mesh(dir + "/cloth.obj", cloth);
+  const std::string scene = "frames: 1\neffects: [gravity]\noutputs: {plot: false, preview: false}\n"
+                            "garment: {source: file, file: " + dir + "/cloth.obj";
+  test::write_file(dir + "/kept.yaml", scene + ", keep_vertex_order: true}\n");
+  test::write_file(dir + "/default.yaml", scene + "}\n");
+  for (const char* name : {"kept", "default"}) {
+    auto r = test::run_pb4u("-q simulate --checkpoint " + test::kSource + "/data/pretrained/pb4u.h5 --scene " + dir +
+                            "/" + name + ".yaml --out " + dir + "/" + name);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+  }
+  const TriMesh file = read_mesh_in_file_order(dir + "/cloth.obj");
+  const TriMesh kept = read_mesh_in_file_order(dir + "/kept/garment_rest.obj");
+  const TriMesh imported = read_mesh_in_file_order(dir + "/default/garment_rest.obj");
+  EXPECT_EQ(kept.V, file.V);
+  EXPECT_EQ(kept.F, file.F);
+  ASSERT_EQ(imported.V.rows(), file.V.rows());
+  EXPECT_NE(imported.V, file.V);
+  // A remeshed garment has new vertices: asking for both is an error naming the key.
+  test::write_file(dir + "/both.yaml", scene + ", keep_vertex_order: true, triangles: 50}\n");
+  auto r = test::run_pb4u("-q simulate --checkpoint " + test::kSource + "/data/pretrained/pb4u.h5 --scene " + dir +
+                          "/both.yaml --out " + dir + "/both");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("garment.keep_vertex_order"), std::string::npos) << r.err;
+}
+
 TEST(UsdScene, BadUsdAndBodySequencesFailInOneLineNamingTheFile) {
   const std::string dir = test::temp_dir("usd_scene_bad");
   test::write_file(dir + "/bad.usda", "#usda 1.0\ndef Mesh \"Garment\" {\n  point3f[] points = [(0, 0)]\n}\n");

@@ -25,6 +25,9 @@ struct SceneGarment {
   int level = 1;                    // template: resolution level (1-based)
   std::string file;                 // file: a garment mesh (OBJ, PLY, glTF...)
   int triangles = 0;                // file: remesh to about this many triangles (0: keep)
+  // file: its vertices exactly as the file lists them (OBJ/PLY; no welding or clean-up), so
+  // that vertex i of every output is vertex i of the file, as a DCC's point cache needs.
+  bool keep_vertex_order = false;
   double size = 0.6;                // square: edge length, m
   int resolution = 20;              // square: vertices per side
   double height = 1.0;              // square: y of its top edge, m (it hangs in the xy plane)
@@ -37,6 +40,7 @@ struct SceneGarment {
     v("level", level, int_at_least(1));
     v("file", file);
     v("triangles", triangles, int_at_least(0));
+    v("keep_vertex_order", keep_vertex_order);
     v("size", size, positive());
     v("resolution", resolution, int_in_range(2, 1000));
     v("height", height);
