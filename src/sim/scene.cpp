@@ -1,6 +1,7 @@
 #include "pb4u/sim/scene.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <filesystem>
 
 #include "pb4u/body/bvh.h"
@@ -22,10 +23,22 @@ namespace fs = std::filesystem;
 
 namespace {
 
+// A file, or a numbered pattern (body_%04d.obj) whose frame 0 or 1 is there.
+bool file_or_first_frame_exists(const fs::path& path) {
+  const std::string p = path.string();
+  if (p.find('%') == std::string::npos) return fs::exists(path);
+  char name[4096];
+  for (int frame : {0, 1}) {
+    std::snprintf(name, sizeof name, p.c_str(), frame);
+    if (fs::exists(name)) return true;
+  }
+  return false;
+}
+
 std::string resolve(const std::string& path, const std::string& scene_path) {
-  if (path.empty() || fs::exists(path) || fs::path(path).is_absolute()) return path;
+  if (path.empty() || file_or_first_frame_exists(path) || fs::path(path).is_absolute()) return path;
   fs::path alt = fs::path(scene_path).parent_path() / path;
-  return fs::exists(alt) ? alt.string() : path;
+  return file_or_first_frame_exists(alt) ? alt.string() : path;
 }
 
 const GarmentLevels* find_garment(const BodyRecord& body, const std::string& name) {

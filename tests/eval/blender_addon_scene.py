@@ -84,6 +84,7 @@ def main():
 
     if args.errors:
         errors = {}
+        settings.cache_dir = os.path.join(os.path.abspath(args.out), "errors")  # the run above stays
         settings.executable = "/nonexistent/pb4u"
         errors["no_binary"] = run_operator()
         settings.executable = os.path.abspath(args.pb4u)

@@ -68,7 +68,7 @@ std::string simulated_on_body_sequence(const std::string& tag) {
                    "frames: " + std::to_string(kFrames) +
                        "\neffects: [gravity, collision, friction, pins]\n"
                        "garment: {source: square, size: 0.3, resolution: 7, height: 1.2}\n"
-                       "body: {mesh_sequence: '" + dir + "/body_in_%04d.obj'}\n"
+                       "body: {mesh_sequence: body_in_%04d.obj}\n"  // beside the scene file
                        "pins: {top_band: 0.001, on_body: true}\n"
                        "outputs: {plot: false, preview: false}\n");
   auto run = test::run_pb4u("-q simulate --checkpoint " + test::kSource + "/data/pretrained/pb4u.h5 --scene " + dir +

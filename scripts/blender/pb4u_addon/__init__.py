@@ -94,6 +94,7 @@ class SimulationJob:
             else tempfile.mkdtemp(prefix="pb4u_")
         self.sim_dir = os.path.join(self.out_dir, "simulate")
         os.makedirs(self.out_dir, exist_ok=True)
+        exchange.remove_earlier_run(self.out_dir, self.sim_dir)
         self.log_path = os.path.join(self.out_dir, "simulate.log")
 
         frame_before = self.scene.frame_current

@@ -111,6 +111,15 @@ def shipped_model(binary):
     return None
 
 
+def remove_earlier_run(out_dir, sim_dir):
+    """Deletes what an earlier run left in the cache folder that a shorter run would not
+    overwrite (its body frames and simulate's folder), and nothing else."""
+    for path in glob.glob(os.path.join(glob.escape(out_dir), "body_[0-9][0-9][0-9][0-9].obj")):
+        os.remove(path)
+    if os.path.isdir(sim_dir):
+        shutil.rmtree(sim_dir)
+
+
 def frames_written(sim_dir):
     """How many garment frames simulate has written so far (it writes one OBJ per frame)."""
     return len(glob.glob(os.path.join(glob.escape(sim_dir), "garment_[0-9][0-9][0-9][0-9].obj")))
