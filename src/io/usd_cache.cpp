@@ -7,7 +7,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
-#include <map>
+#include <initializer_list>
 #include <sstream>
 
 #include "pb4u/util/atomic_file.h"
@@ -18,6 +18,12 @@ namespace pb4u {
 namespace {
 
 constexpr char kUsdRootPrim[] = "pb4u";
+
+bool usda_one_of(const std::string& word, std::initializer_list<const char*> words) {
+  for (const char* w : words)
+    if (word == w) return true;
+  return false;
+}
 
 // ---- writing ----
 
@@ -244,8 +250,7 @@ class UsdaParser {
         continue;
       }
       std::string key = lex_.expect_word();
-      static const char* kListEdits[] = {"prepend", "append", "add", "delete", "reorder"};
-      if (std::find(std::begin(kListEdits), std::end(kListEdits), key) != std::end(kListEdits)) key = lex_.expect_word();
+      if (usda_one_of(key, {"prepend", "append", "add", "delete", "reorder"})) key = lex_.expect_word();  // list edits
       if (lex_.accept("=")) on_entry(key, value());
     }
   }
@@ -253,7 +258,7 @@ class UsdaParser {
   // def|over|class [Type] "name" [( metadata )] { properties and child prims }
   void prim(const std::string& parent) {
     const UsdaToken spec = lex_.peek();
-    if (spec.kind != UsdaToken::Word || (spec.text != "def" && spec.text != "over" && spec.text != "class"))
+    if (spec.kind != UsdaToken::Word || !usda_one_of(spec.text, {"def", "over", "class"}))
       lex_.fail("expected a prim ('def', 'over' or 'class')");
     lex_.take();
     std::string type;
@@ -269,7 +274,7 @@ class UsdaParser {
     mesh.line = spec.line;
     while (!lex_.accept("}")) {
       const UsdaToken& t = lex_.peek();
-      if (t.kind == UsdaToken::Word && (t.text == "def" || t.text == "over" || t.text == "class")) {
+      if (t.kind == UsdaToken::Word && usda_one_of(t.text, {"def", "over", "class"})) {
         prim(mesh.prim_path);
       } else if (t.kind == UsdaToken::Word && t.text == "variantSet") {
         lex_.fail("variant sets are not read");
@@ -284,13 +289,14 @@ class UsdaParser {
   // or rel name [= targets] [( metadata )].
   void property(RawMesh* mesh) {
     while (lex_.peek().kind == UsdaToken::Word &&
-           (lex_.peek().text == "uniform" || lex_.peek().text == "custom" || lex_.peek().text == "varying" ||
-            lex_.peek().text == "config" || lex_.peek().text == "prepend" || lex_.peek().text == "append" ||
-            lex_.peek().text == "delete" || lex_.peek().text == "add" || lex_.peek().text == "reorder"))
+           usda_one_of(lex_.peek().text,
+                       {"uniform", "custom", "varying", "config", "prepend", "append", "delete", "add", "reorder"}))
       lex_.take();
     const std::string type = lex_.expect_word();
     if (lex_.accept("[")) lex_.expect("]");
-    const bool float32 = type.back() == 'f' || type.back() == 'h';  // point3f, float3, point3h
+    // point3f, vector3f, float3 (float32) and their half-float forms; point3d stays double.
+    const bool float32 = type.back() == 'f' || type.back() == 'h' || type.rfind("float", 0) == 0 ||
+                         type.rfind("half", 0) == 0;
     const std::string name = type == "rel" && lex_.peek().kind != UsdaToken::Word ? "" : lex_.expect_word();
     UsdaValue v;
     const bool assigned = lex_.accept("=");

@@ -131,6 +131,15 @@ def Xform "root" (
   EXPECT_EQ(cache.meshes[0].faces, fan);
   // The only Mesh of a file is the garment, whatever its name.
   EXPECT_EQ(read_frame_sequence(dir + "/z.usda", "garment").frames.size(), 1u);
+
+  // float32 points (point3f, float3) read as the floats they are; point3d keeps its digits.
+  for (const std::string type : {"point3f", "float3", "point3d"}) {
+    test::write_file(dir + "/p.usda", "#usda 1.0\ndef Mesh \"M\" {\n int[] faceVertexCounts = [3]\n"
+                                      " int[] faceVertexIndices = [0, 1, 2]\n " + type +
+                                          "[] points = [(0.1, 0, 0), (1, 0, 0), (0, 1, 0)]\n}\n");
+    const double x = read_usd_cache(dir + "/p.usda").meshes.at(0).frames.at(0)(0, 0);
+    EXPECT_EQ(x, type == "point3d" ? 0.1 : double(0.1f)) << type;
+  }
 }
 
 // Each bad file fails with one line that starts with its path (and names the line).

@@ -14,7 +14,6 @@ bl_info = {
     "blender": (3, 4, 0),
     "location": "Properties > Physics > pb4u Cloth",
     "description": "Simulate a garment on an animated body with pb4u and load it back as a cache",
-    "doc_url": "https://github.com/pb4u/pb4u/blob/main/docs/blender.md",
     "category": "Physics",
 }
 
