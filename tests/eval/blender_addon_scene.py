@@ -6,7 +6,8 @@ scripts/blender/addon_overhead.sh for its timings):
 
 builds the add-on's demo scene (scripts/blender/demo_scene.py: a skinned cylinder as the body,
 an open tube pinned by its top ring as the garment), runs the add-on's operator and writes what Blender then shows on the garment at each frame, in pb4u's axes, as
-DIR/blender_NNNN.obj (17 digits), beside the add-on's own DIR/cache/. DIR/result.json: the
+DIR/blender_NNNN.obj (17 digits), beside the add-on's own DIR/cache/, and the same frames as
+the USD layer a Blender with USD would load (DIR/garment_blender.usda). DIR/result.json: the
 operator's timings per run and, with --errors, the messages of three failing runs (no pb4u
 binary, a garment with a loose vertex, a model file that is not one).
 """
@@ -78,6 +79,10 @@ def main():
         result["runs"].append(dict(scene["pb4u_seconds"]))
     modifier = garment.modifiers.get("pb4u")
     result["modifier"] = modifier.type if modifier else None
+    # What a Blender with USD would load instead (Load as: USD): the same frames as a USD layer.
+    local = exchange.read_pc2(os.path.join(args.out, "cache", "garment_blender.pc2"))
+    exchange.write_usda_mesh(os.path.join(args.out, "garment_blender.usda"), "Garment", local,
+                             [tuple(p.vertices) for p in garment.data.polygons], settings.frame_start, 24)
     for t, x in enumerate(shown_frames(garment, settings.frame_start, settings.frame_end)):
         with open(os.path.join(args.out, "blender_%04d.obj" % t), "w") as f:
             f.write("".join("v %.17g %.17g %.17g\n" % tuple(p) for p in x))

@@ -1,12 +1,14 @@
 // The Blender add-on (scripts/blender/pb4u_addon), headless: a skinned cylinder and a tube
 // pinned at its top (tests/eval/blender_addon_scene.py), one click of its operator, and the
 // garment Blender then shows at every frame equals simulate's OBJ frames to 1e-6 m. Its three
-// failures (no binary, a bad mesh, a failed run) come back as messages. Skipped without Blender.
+// failures (no binary, a bad mesh, a failed run) come back as messages, and the USD layer it
+// would load in a Blender with USD holds the same frames. Skipped without Blender.
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
 #include "pb4u/eval/blender_cloth.h"
 #include "pb4u/io/frame_sequence.h"
+#include "pb4u/io/usd_cache.h"
 #include "pb4u/sim/rollout_writer.h"
 #include "pb4u/util/subprocess.h"
 #include "test_util.h"
@@ -39,6 +41,19 @@ TEST(BlenderAddon, CachedFramesOnTheGarmentEqualSimulatesObjFrames) {
       moved = (shown - read_mesh_in_file_order(frame_file(dir, "blender", 0, "obj")).V).rowwise().norm().maxCoeff();
   }
   EXPECT_GT(moved, 0.01) << "the cached garment does not move";
+
+  // The USD layer the add-on gives a Blender that reads USD (the garment's space, z up): read
+  // back in pb4u's axes, the same frames (the demo garment's transform is the identity).
+  const UsdCache usd = read_usd_cache(dir + "/garment_blender.usda");
+  ASSERT_EQ(usd.meshes.size(), 1u);
+  EXPECT_EQ(usd.start_time_code, 1.0);  // the first Blender frame
+  ASSERT_EQ(usd.meshes[0].frames.size(), size_t(kFrames + 1));
+  for (int t = 0; t <= kFrames; ++t)
+    EXPECT_LE((usd.meshes[0].frames[t] - read_mesh_in_file_order(frame_file(sim, "garment", t, "obj")).V)
+                  .cwiseAbs()
+                  .maxCoeff(),
+              1e-6)
+        << "USD frame " << t;
 
   const nlohmann::json result = nlohmann::json::parse(test::read_file(dir + "/result.json"));
   EXPECT_EQ(result.at("modifier"), "MESH_CACHE");

@@ -256,16 +256,8 @@ class SimulationJob:
         """The garment's frames (its own space, Blender's z up) as a one-mesh USD layer, read by
         a Mesh Sequence Cache (Blender builds with USD)."""
         path = os.path.join(self.out_dir, "garment_blender.usda")
-        start = self.settings.frame_start
-        with open(path + ".tmp", "w") as f:
-            f.write('#usda 1.0\n(\n    defaultPrim = "Garment"\n    metersPerUnit = 1\n    upAxis = "Z"\n'
-                    "    startTimeCode = %d\n    endTimeCode = %d\n    timeCodesPerSecond = %g\n)\n\n"
-                    % (start, start + len(local) - 1, self.scene.render.fps / self.scene.render.fps_base))
-            f.write('def Mesh "Garment"\n{\n    point3f[] points.timeSamples = {\n')
-            for t, x in enumerate(local):
-                f.write("        %d: [%s],\n" % (start + t, ", ".join("(%.9g, %.9g, %.9g)" % tuple(p) for p in x)))
-            f.write("    }\n}\n")
-        os.replace(path + ".tmp", path)
+        exchange.write_usda_mesh(path, "Garment", local, [tuple(p.vertices) for p in garment.data.polygons],
+                                 self.settings.frame_start, self.scene.render.fps / self.scene.render.fps_base)
         cache_file = bpy.data.cache_files.load(path)
         modifier = garment.modifiers.new(MODIFIER_NAME, "MESH_SEQUENCE_CACHE")
         modifier.cache_file = cache_file

@@ -65,6 +65,25 @@ def read_pc2(path):
     return data.reshape(count, n, 3)
 
 
+def write_usda_mesh(path, name, frames, polygons, start_frame, fps, up_axis="Z"):
+    """A USD text layer holding one Mesh, /<name>, with its polygons and its (T, n, 3) frames
+    as time-sampled float32 points at time codes start_frame, start_frame + 1, ..."""
+    counts = ", ".join(str(len(p)) for p in polygons)
+    indices = ", ".join(str(i) for p in polygons for i in p)
+    tmp = path + ".tmp"
+    with open(tmp, "w") as f:
+        f.write('#usda 1.0\n(\n    defaultPrim = "%s"\n    metersPerUnit = 1\n    upAxis = "%s"\n'
+                "    startTimeCode = %d\n    endTimeCode = %d\n    timeCodesPerSecond = %g\n"
+                "    framesPerSecond = %g\n)\n\n" % (name, up_axis, start_frame, start_frame + len(frames) - 1, fps, fps))
+        f.write('def Mesh "%s"\n{\n    uniform token subdivisionScheme = "none"\n' % name)
+        f.write("    int[] faceVertexCounts = [%s]\n    int[] faceVertexIndices = [%s]\n" % (counts, indices))
+        f.write("    point3f[] points.timeSamples = {\n")
+        for t, x in enumerate(np.asarray(frames, dtype=np.float32)):
+            f.write("        %d: [%s],\n" % (start_frame + t, ", ".join("(%.9g, %.9g, %.9g)" % tuple(p) for p in x)))
+        f.write("    }\n}\n")
+    os.replace(tmp, path)
+
+
 def yaml_string(text):
     """A YAML double-quoted string (paths may hold spaces, quotes, colons)."""
     return '"' + text.replace("\\", "\\\\").replace('"', '\\"') + '"'
