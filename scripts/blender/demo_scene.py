@@ -42,13 +42,15 @@ def skinned_body(segments, frames):
     rig = bpy.data.objects.new("Rig", arm_data)
     bpy.context.scene.collection.objects.link(rig)
     bpy.context.view_layer.objects.active = rig
-    bpy.ops.object.mode_set({"active_object": rig, "object": rig}, mode="EDIT")
+    with bpy.context.temp_override(active_object=rig, object=rig):
+        bpy.ops.object.mode_set(mode="EDIT")
     lower = arm_data.edit_bones.new("lower")
     lower.head, lower.tail = (0, 0, 0.6), (0, 0, 1.1)
     upper = arm_data.edit_bones.new("upper")
     upper.head, upper.tail = (0, 0, 1.1), (0, 0, 1.6)
     upper.parent = lower
-    bpy.ops.object.mode_set({"active_object": rig, "object": rig}, mode="OBJECT")
+    with bpy.context.temp_override(active_object=rig, object=rig):
+        bpy.ops.object.mode_set(mode="OBJECT")
     groups = {name: body.vertex_groups.new(name=name) for name in ("lower", "upper")}
     for v in body.data.vertices:
         w = min(max((v.co.z - 1.0) / 0.2, 0.0), 1.0)  # a 20 cm blend around the joint
