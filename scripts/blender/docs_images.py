@@ -8,6 +8,7 @@ on the body at three frames. Needs a display; headless, under Xvfb:
 
 import argparse
 import os
+import shutil
 import sys
 import tempfile
 
@@ -24,6 +25,7 @@ args.add_argument("--frames", type=int, default=45)
 args = args.parse_args(sys.argv[sys.argv.index("--") + 1:])
 OUT = os.path.abspath(args.out)
 SHOWN = (1, args.frames // 2 + 1, args.frames + 1)  # the frames of the render
+WORK = tempfile.mkdtemp(prefix="pb4u_docs_")  # the add-on's cache and the single frames; removed at the end
 
 
 def colour(obj, rgba):
@@ -40,6 +42,7 @@ def quit_on_error(step):
         except Exception:
             import traceback
             traceback.print_exc()
+            shutil.rmtree(WORK, ignore_errors=True)
             bpy.ops.wm.quit_blender()
     return run
 
@@ -51,7 +54,7 @@ def simulate_and_set_up_the_window():
     window.event_simulate(type="ESC", value="RELEASE")
     with bpy.context.temp_override(window=window, screen=window.screen):  # timers run without one
         garment, body = demo_scene.build(args.frames, 32, args.pb4u, threads=0,
-                                         cache_dir=tempfile.mkdtemp(prefix="pb4u_docs_"))
+                                         cache_dir=os.path.join(WORK, "cache"))
         bpy.ops.pb4u.simulate()
     colour(garment, (0.85, 0.33, 0.22, 1))
     colour(body, (0.75, 0.75, 0.78, 1))
@@ -82,6 +85,7 @@ def screenshot_and_render():
     with bpy.context.temp_override(window=window, screen=window.screen):
         bpy.ops.screen.screenshot(filepath=os.path.join(OUT, "blender_panel.png"))
     render_frames()
+    shutil.rmtree(WORK, ignore_errors=True)
     bpy.ops.wm.quit_blender()
 
 
@@ -102,7 +106,7 @@ def render_frames():
     images = []
     for frame in SHOWN:
         scene.frame_set(frame)
-        path = os.path.join(tempfile.gettempdir(), "pb4u_docs_frame_%04d.png" % frame)
+        path = os.path.join(WORK, "frame_%04d.png" % frame)
         scene.render.filepath = path
         bpy.ops.render.render(write_still=True)
         images.append(bpy.data.images.load(path))
