@@ -28,6 +28,7 @@ std::vector<std::string> columns(const ScoreResult& r) {
   if (!r.penetration.empty()) {
     names.push_back("penetrating_fraction");
     names.push_back("max_penetration_mm");
+    names.push_back("edges_through_body");
   }
   return names;
 }
@@ -40,6 +41,7 @@ std::vector<double> row(const ScoreResult& r, size_t i) {
   if (!r.penetration.empty()) {
     v.push_back(r.penetration[i].penetrating_fraction);
     v.push_back(r.penetration[i].max_penetration_mm);
+    v.push_back(r.penetration[i].edges_through);
   }
   return v;
 }
@@ -144,6 +146,8 @@ std::string score_json(const ScoreResult& r) {
     out["penetrating_fraction"] = figure(r.penetration_summary.penetrating_fraction);
     out["max_penetrating_fraction"] = figure(r.penetration_summary.max_penetrating_fraction);
     out["max_penetration_mm"] = figure(r.penetration_summary.max_penetration_mm);
+    out["max_edges_through_body"] = r.penetration_summary.max_edges_through;
+    out["frames_with_edges_through_body"] = r.penetration_summary.frames_with_edges_through;
   }
   out["nonfinite_at_frame"] = r.nonfinite_at_frame < 0 ? Json(nullptr) : Json(r.nonfinite_at_frame);
   Json& per_frame = out["per_frame"] = Json::array();
@@ -183,9 +187,12 @@ std::string score_table(const ScoreResult& r, const std::string& title) {
   std::snprintf(line, sizeof line, "  %-22s %14.6g %14.6g\n", "residual (mm)", r.mean.residual_mm, residual_max);
   out << line;
   if (!r.penetration.empty()) {
-    std::snprintf(line, sizeof line, "  inside the body: mean %.2f%%, max %.2f%% of vertices; deepest %.2f mm\n",
+    std::snprintf(line, sizeof line,
+                  "  inside the body: mean %.2f%%, max %.2f%% of vertices; deepest %.2f mm; cloth edges through it on "
+                  "%d frames (at most %d)\n",
                   100 * r.penetration_summary.penetrating_fraction,
-                  100 * r.penetration_summary.max_penetrating_fraction, r.penetration_summary.max_penetration_mm);
+                  100 * r.penetration_summary.max_penetrating_fraction, r.penetration_summary.max_penetration_mm,
+                  r.penetration_summary.frames_with_edges_through, r.penetration_summary.max_edges_through);
     out << line;
   }
   return out.str();
