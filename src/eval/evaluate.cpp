@@ -41,13 +41,21 @@ struct PenetrationKey {
   const char* key;
   const char* label;
   double table_scale;
-  double PenetrationSummary::*field;
+  double (*value)(const PenetrationSummary&);
 };
 const PenetrationKey kPenetrationKeys[] = {
-    {"penetrating_fraction", "Inside %", 100.0, &PenetrationSummary::penetrating_fraction},
-    {"max_penetrating_fraction", "Inside max %", 100.0, &PenetrationSummary::max_penetrating_fraction},
-    {"max_penetration_mm", "Depth max mm", 1.0, &PenetrationSummary::max_penetration_mm},
-};
+    {"penetrating_fraction", "Inside %", 100.0, [](const PenetrationSummary& s) { return s.penetrating_fraction; }},
+    {"max_penetrating_fraction", "Inside max %", 100.0,
+     [](const PenetrationSummary& s) { return s.max_penetrating_fraction; }},
+    {"max_penetration_mm", "Depth max mm", 1.0, [](const PenetrationSummary& s) { return s.max_penetration_mm; }},
+    // Cloth edges through a body triangle (both ends may be outside): the most on a frame, and
+    // the share of frames with any.
+    {"max_edges_through", "Edges thru max", 1.0,
+     [](const PenetrationSummary& s) { return double(s.max_edges_through); }},
+    {"edges_through_frames", "Edges thru %", 100.0,
+     [](const PenetrationSummary& s) {
+       return s.frames > 0 ? double(s.frames_with_edges_through) / s.frames : 0.0;
+     }}};
 
 const PenetrationKey* penetration_key(const std::string& row) {
   for (const auto& k : kPenetrationKeys)
@@ -61,7 +69,7 @@ std::optional<double> row_value(const std::optional<EnergyReport>& mean,
                                 const std::optional<PenetrationSummary>& penetration, const std::string& row) {
   if (const PenetrationKey* k = penetration_key(row)) {
     if (!penetration) return std::nullopt;
-    return (*penetration).*(k->field);
+    return k->value(*penetration);
   }
   if (!mean) return std::nullopt;
   if (row == "total") return mean->total;
@@ -352,7 +360,8 @@ std::string format_table(const std::vector<LevelResult>& levels) {
   out << "* lowest value in the row. Energies in J, per frame, averaged over frames and sequences.\n";
   if (any_penetration)
     out << "Inside %: garment vertices inside the body, mean over frames and sequences (max: worst frame);\n"
-           "Depth max mm: the deepest garment vertex on any frame.\n";
+           "Depth max mm: the deepest garment vertex on any frame; Edges thru: cloth edges through a body\n"
+           "triangle (both ends may be outside), the most on a frame (max) and the share of frames with any (%).\n";
   return out.str();
 }
 

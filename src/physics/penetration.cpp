@@ -36,7 +36,7 @@ PenetrationSummary summarize_penetration(const std::vector<PenetrationFigures>& 
   std::vector<PenetrationSummary> each;
   for (const auto& f : frames)
     each.push_back({f.penetrating_fraction, f.penetrating_fraction, f.max_penetration_mm, f.edges_through,
-                    f.edges_through > 0 ? 1 : 0});
+                    f.edges_through > 0 ? 1 : 0, 1});
   return summarize_penetration(each);
 }
 
@@ -49,6 +49,7 @@ PenetrationSummary summarize_penetration(const std::vector<PenetrationSummary>& 
     s.max_penetration_mm = std::max(s.max_penetration_mm, q.max_penetration_mm);
     s.max_edges_through = std::max(s.max_edges_through, q.max_edges_through);
     s.frames_with_edges_through += q.frames_with_edges_through;
+    s.frames += q.frames;
   }
   return s;
 }

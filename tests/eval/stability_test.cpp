@@ -74,11 +74,14 @@ TEST(Stability, EvaluateReportsPenetrationAndEverySequence) {
     EXPECT_NEAR(m.penetration->penetrating_fraction, mean_fraction, 1e-12);
     EXPECT_EQ(m.penetration->max_penetrating_fraction, max_fraction);
     EXPECT_EQ(m.penetration->max_penetration_mm, max_mm);
+    EXPECT_GE(m.penetration->max_edges_through, 0);  // measured on every frame
+    EXPECT_LE(m.penetration->frames_with_edges_through, m.penetration->frames);
   }
   const std::string json = format_json(levels), table = format_table(levels), csv = format_csv(levels);
   const nlohmann::json report = nlohmann::json::parse(json);  // valid JSON: no nan
   for (const auto& [name, method] : report.at("levels")[0].at("methods").items()) {
-    for (const char* key : {"penetrating_fraction", "max_penetrating_fraction", "max_penetration_mm"})
+    for (const char* key : {"penetrating_fraction", "max_penetrating_fraction", "max_penetration_mm",
+                            "max_edges_through", "edges_through_frames"})
       EXPECT_TRUE(method.contains(key) && method.at(key).is_number()) << name << " " << key << "\n" << json;
     ASSERT_FALSE(method.at("sequences").empty()) << name;
     EXPECT_EQ(method.at("sequences")[0].at("body"), "mannequin") << name;
@@ -88,6 +91,7 @@ TEST(Stability, EvaluateReportsPenetrationAndEverySequence) {
   }
   EXPECT_NE(table.find("Inside %"), std::string::npos) << table;
   EXPECT_NE(table.find("Depth max mm"), std::string::npos) << table;
+  EXPECT_NE(table.find("Edges thru max"), std::string::npos) << table;
   EXPECT_NE(csv.find(",Pb4U,"), std::string::npos);
   EXPECT_NE(csv.find(",max_penetration_mm,"), std::string::npos) << csv;
   EXPECT_EQ(csv.substr(0, csv.find('\n')), "level,triangles,vertices,method,K,term,value,diverged,diverged_at_frame");

@@ -137,6 +137,18 @@ TEST(Penetration, SummariesOverFramesAndSequences) {
   EXPECT_NEAR(both.penetrating_fraction, 0.1, 1e-15);
   EXPECT_EQ(both.max_penetrating_fraction, 0.3);
   EXPECT_EQ(both.max_penetration_mm, 5.0);
+  // Edges through the body: the most on a frame and the frames with any, over frames and sequences.
+  PenetrationFigures crossed{0.0, 0.0}, clear{0.0, 0.0};
+  crossed.edges_through = 4;
+  clear.edges_through = 0;
+  const PenetrationSummary c = summarize_penetration(std::vector<PenetrationFigures>{clear, crossed, crossed});
+  EXPECT_EQ(c.max_edges_through, 4);
+  EXPECT_EQ(c.frames_with_edges_through, 2);
+  EXPECT_EQ(c.frames, 3);
+  const PenetrationSummary d = summarize_penetration(std::vector<PenetrationSummary>{c, a});
+  EXPECT_EQ(d.max_edges_through, 4);
+  EXPECT_EQ(d.frames_with_edges_through, 2);
+  EXPECT_EQ(d.frames, 6);
   EXPECT_THROW(summarize_penetration(std::vector<PenetrationFigures>{}), Error);
 }
 

@@ -30,6 +30,7 @@ struct PenetrationSummary {
   double max_penetration_mm = 0;        // mm: the deepest penetration on any frame
   int max_edges_through = -1;           // most cloth edges through the body on a frame (-1: not measured)
   int frames_with_edges_through = 0;    // frames with at least one
+  int frames = 0;                       // frames summarised
 };
 
 // Over the frames of a sequence. Throws pb4u::Error when empty.
