@@ -183,9 +183,12 @@ RolloutFigures check_rollout(const std::string& label, const RolloutInput& input
               label.c_str(), fig.frames, static_cast<long long>(rest.V.rows()), fig.max_stretch, fig.max_total,
               fig.mean_positive, fig.max_positive, fig.max_speed, fig.seconds);
   if (fig.penetration)
-    std::printf("[hard] %s: inside %.2f%% mean / %.2f%% max, deepest %.2f mm\n", label.c_str(),
-                100 * fig.penetration->penetrating_fraction, 100 * fig.penetration->max_penetrating_fraction,
-                fig.penetration->max_penetration_mm);
+    std::printf("[hard] %s: inside %.2f%% mean / %.2f%% max, deepest %.2f mm; cloth edges through the body on %d of "
+                "%d frames, at most %d\n",
+                label.c_str(), 100 * fig.penetration->penetrating_fraction,
+                100 * fig.penetration->max_penetrating_fraction, fig.penetration->max_penetration_mm,
+                fig.penetration->frames_with_edges_through, fig.penetration->frames,
+                fig.penetration->max_edges_through);
   if (judge == Judge::kReport && fig.violations > 0)
     std::printf("[hard] %s: outside its frame bounds %d times, first: %s\n", label.c_str(), fig.violations,
                 fig.first_violation.c_str());
