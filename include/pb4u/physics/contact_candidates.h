@@ -7,15 +7,22 @@
 #include <Eigen/Core>
 
 #include <array>
+#include <memory>
 #include <vector>
 
 namespace pb4u {
 
+struct SurfaceIndex;
+
 // A body surface as contact sees it: vertices (nb x 3, m), outward faces (mb x 3) and its
-// unique edges (eb x 2).
+// unique edges (eb x 2). `index` caches the KD-trees over its face centroids and edge
+// midpoints between queries; contact_candidates rebuilds it whenever V differs from the
+// positions it was built at (so V may be assigned freely). Not to be queried from two
+// threads at once.
 struct ContactSurface {
   Eigen::MatrixXd V;
   Eigen::MatrixXi F, E;
+  mutable std::shared_ptr<const SurfaceIndex> index;
 };
 ContactSurface make_contact_surface(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F);
 
