@@ -4,8 +4,9 @@
 #   scripts/hard_cases.sh [SCALE=4] [gtest filter]   meshes SCALE times finer and rollouts SCALE
 #                                                     times longer than in CI (4000 frames for the
 #                                                     long rollout at 4)
-#   scripts/hard_cases.sh --known-gaps [SCALE=1]      the cases the shipped model does not meet yet
-#                                                     (tests/hard/known_gaps.txt; ctest leaves them
+#   scripts/hard_cases.sh --known-gaps [SCALE=1]      the cases that miss their bounds today (the
+#                                                     reference solver or the refined network;
+#                                                     tests/hard/known_gaps.txt; ctest leaves them
 #                                                     out): their figures and gtest's verdict
 # Prints one "[hard] ..." line per figure and gtest's verdict; exits non-zero when a case fails.
 set -euo pipefail
