@@ -179,7 +179,11 @@ RolloutResult run_rollout(const RolloutInput& in, const StepFunction& step,
   TermList terms = build_terms(in.effects, physics);
 
   const bool measure_penetration = !in.body.empty();
+  // Edges of the garment and of the body, for the edges through the body each frame: the
+  // topology is the rollout's, only the body's positions change.
   const Eigen::MatrixXi garment_edges = measure_penetration ? unique_edges(in.garment_rest.F) : Eigen::MatrixXi();
+  ContactSurface posed_body;
+  if (measure_penetration) posed_body = make_contact_surface(in.body[0], in.body_faces);
   RolloutResult result;
   double start_positive = 0;  // frame 1's positive energy (J): the divergence guard's start
   for (int frame = 1; frame <= in.steps; ++frame) {
@@ -220,8 +224,8 @@ RolloutResult run_rollout(const RolloutInput& in, const StepFunction& step,
     std::optional<PenetrationFigures> penetration;
     if (measure_penetration) {
       penetration = garment_penetration(x, in.body[frame], in.body_faces);
-      penetration->edges_through = int(
-          cloth_edges_through_body(x, garment_edges, make_contact_surface(in.body[frame], in.body_faces)).size());
+      posed_body.V = in.body[frame];
+      penetration->edges_through = int(cloth_edges_through_body(x, garment_edges, posed_body).size());
       result.penetration.push_back(*penetration);
     }
     result.reports.push_back(report);
