@@ -27,9 +27,9 @@ constexpr double kMaxContactStep = 5e-2;
 // CCD-certified body moves per step; a body not at its pose after them is placed there.
 constexpr int kMaxBodyMoves = 24;
 
-// A flat (3k) tensor from k x 3 rows.
-torch::Tensor as_flat(const Eigen::MatrixXd& rows, const torch::TensorOptions& opts) {
-  return matrix_to_tensor(rows, opts.dtype().toScalarType(), opts.device()).reshape({-1});
+// The rows `free` of an n x 3 matrix, flat (3 x free rows): the solver's coordinates.
+torch::Tensor free_coordinates(const Eigen::MatrixXd& rows, const torch::Tensor& free, const torch::TensorOptions& opts) {
+  return matrix_to_tensor(rows, opts.dtype().toScalarType(), opts.device()).index_select(0, free).reshape({-1});
 }
 
 struct Pair {
@@ -182,7 +182,7 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
       const BarrierValue b = barrier_potential(positions(q), barrier->cloth_edges, body, candidates, settings, &G);
       energy += b.energy;
       closest = b.min_distance;
-      *grad += as_flat(G, opts).reshape({n, 3}).index_select(0, free).reshape({-1});
+      *grad += free_coordinates(G, free, opts);
     }
     return energy;
   };
@@ -283,7 +283,7 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
     if (!(t > 0)) return false;
     // A full step lands exactly on the pose (no rounding left over).
     body.V = (t >= 1 && left <= kMaxContactStep) ? barrier->body_next : Eigen::MatrixXd(body.V + t * DB);
-    q = q + t * as_flat(D, opts).reshape({n, 3}).index_select(0, free).reshape({-1});
+    q = q + t * free_coordinates(D, free, opts);
     return true;
   };
   while (nf > 0) {
