@@ -10,6 +10,7 @@
 #include <initializer_list>
 #include <sstream>
 
+#include "pb4u/mesh/clean.h"
 #include "pb4u/util/atomic_file.h"
 #include "pb4u/util/error.h"
 
@@ -453,27 +454,25 @@ class UsdaParser {
     if (raw.counts.kind != UsdaValue::NumberList || raw.indices.kind != UsdaValue::NumberList || raw.counts.width != 1 ||
         raw.indices.width != 1)
       fail_file(path_, where + ": faceVertexCounts and faceVertexIndices must be lists of integers");
-    std::vector<int> tris;
+    std::vector<std::vector<int>> polygons;
     size_t corner = 0;
     for (double count : raw.counts.numbers) {
       if (count < 3 || count != std::floor(count))
         fail_file(path_, where + ": faceVertexCounts holds " + fmt::format("{:g}", count) + " (a face needs 3 or more)");
       if (corner + size_t(count) > raw.indices.numbers.size())
         fail_file(path_, where + ": faceVertexCounts adds up to more than the faceVertexIndices");
-      for (size_t k = 2; k < size_t(count); ++k)
-        for (size_t c : {corner, corner + k - 1, corner + k}) {
-          const double index = raw.indices.numbers[c];
-          if (index < 0 || index >= double(n) || index != std::floor(index))
-            fail_file(path_, fmt::format("{}: faceVertexIndices holds {:g}, the mesh has {} points", where, index, n));
-          tris.push_back(static_cast<int>(index));
-        }
+      std::vector<int>& polygon = polygons.emplace_back();
+      for (size_t c = corner; c < corner + size_t(count); ++c) {
+        const double index = raw.indices.numbers[c];
+        if (index < 0 || index >= double(n) || index != std::floor(index))
+          fail_file(path_, fmt::format("{}: faceVertexIndices holds {:g}, the mesh has {} points", where, index, n));
+        polygon.push_back(static_cast<int>(index));
+      }
       corner += size_t(count);
     }
     if (corner != raw.indices.numbers.size())
       fail_file(path_, where + ": faceVertexCounts adds up to fewer than the faceVertexIndices");
-    mesh.faces.resize(static_cast<Eigen::Index>(tris.size() / 3), 3);
-    for (Eigen::Index f = 0; f < mesh.faces.rows(); ++f)
-      for (int k = 0; k < 3; ++k) mesh.faces(f, k) = tris[3 * f + k];
+    mesh.faces = triangulate_polygons(polygons);
     return mesh;
   }
 

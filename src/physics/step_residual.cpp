@@ -28,11 +28,12 @@ double step_residual(const torch::Tensor& x_next, const FrameState& state, const
 
   torch::Tensor x = x_next.detach().to(torch::kFloat64).clone().requires_grad_(true);
   // Barrier contact: the vertices not free of the body leave the barrier for the penalty term.
-  const Eigen::MatrixXd X = tensor_to_matrix(x.detach());
+  Eigen::MatrixXd X;
   ContactSurface body;
   ContactCandidates candidates;
   PenaltyFallback fallback;
   if (barrier) {
+    X = tensor_to_matrix(x.detach());
     body = make_contact_surface(barrier->body_next, barrier->body_faces);
     const std::vector<char> excluded =
         vertices_not_free_of(X, barrier->cloth_edges, body.V, body.F, barrier->settings.d_hat);
