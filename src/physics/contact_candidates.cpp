@@ -72,7 +72,7 @@ const SurfaceIndex& surface_index(const ContactSurface& body) {
 }  // namespace
 
 ContactSurface make_contact_surface(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F) {
-  return {V, F, unique_edges(F)};
+  return {V, F, unique_edges(F), nullptr};  // the index is built at the first query
 }
 
 ContactCandidates contact_candidates(const Eigen::MatrixXd& x, const Eigen::MatrixXd& dx,

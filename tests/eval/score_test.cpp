@@ -102,10 +102,11 @@ TEST(Score, SimulatesOwnOutputReproducesItsEnergiesCsv) {
   ASSERT_EQ(got.size(), want.size());
   for (size_t c = 1; c < want[0].size(); ++c) {
     // Differences of float32 positions: inertia and friction read velocities; the residual of a
-    // converged step (2.6e-4 mm here) moves by a few nm when its positions are rounded.
+    // converged step (~1.4e-4 mm here) moves when its positions are rounded to float32, whose
+    // half ulp at 1 m is 60 nm: by a few nm here, by 13 nm with LibTorch 2.11 on another CPU.
     if (want[0][c] == "inertia" || want[0][c] == "friction") continue;
     if (want[0][c] == "residual_mm") {
-      EXPECT_NEAR(std::stod(got[4][c]), std::stod(want[4][c]), 1e-5) << "residual_mm";  // 10 nm
+      EXPECT_NEAR(std::stod(got[4][c]), std::stod(want[4][c]), 1e-4) << "residual_mm";  // 0.1 um
       continue;
     }
     const double a = std::stod(want[4][c]), b2 = std::stod(got[4][c]);

@@ -5,6 +5,9 @@
 #include <unistd.h>
 
 #include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
 
 #include "pb4u/util/error.h"
 #include "pb4u/util/remove_tree.h"
@@ -46,6 +49,26 @@ TEST(RemoveTree, APathThroughAFileIsAnErrorNamingIt) {
     EXPECT_NE(std::string(e.what()).find(base + "/file/below"), std::string::npos) << e.what();
   }
   remove_tree(base);
+}
+
+// A call of std::filesystem::remove_all compiles and passes here and crashes only in a build
+// against PyTorch's LibTorch (one did: tests/install, found on a GPU machine). So no source or
+// test file may call it.
+TEST(RemoveTree, NoSourceOrTestCallsRemoveAll) {
+  const std::regex call(R"((fs|filesystem)::remove_all\s*\()");
+  int files = 0;
+  for (const char* dir : {"src", "include", "tests"})
+    for (const auto& entry : fs::recursive_directory_iterator(test::kSource + "/" + dir)) {
+      const std::string ext = entry.path().extension().string();
+      if (!entry.is_regular_file() || (ext != ".cpp" && ext != ".h")) continue;
+      std::ifstream in(entry.path());
+      std::stringstream text;
+      text << in.rdbuf();
+      const std::string s = text.str();
+      ++files;
+      if (std::regex_search(s, call)) ADD_FAILURE() << entry.path() << " calls remove_all: use remove_tree";
+    }
+  EXPECT_GT(files, 100);
 }
 
 }  // namespace
