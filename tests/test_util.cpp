@@ -100,4 +100,28 @@ TriMesh grid_mesh(int n, double size) {
   return m;
 }
 
+TriMesh box_mesh(const Eigen::RowVector3d& lo, const Eigen::RowVector3d& hi) {
+  TriMesh m;
+  m.V.resize(8, 3);
+  for (int i = 0; i < 8; ++i) m.V.row(i) << (i & 1 ? hi : lo)(0), (i & 2 ? hi : lo)(1), (i & 4 ? hi : lo)(2);
+  // Corner i has x from bit 0, y from bit 1, z from bit 2; each side counter-clockwise seen from outside.
+  m.F.resize(12, 3);
+  m.F << 0, 2, 3, 0, 3, 1,  // z = lo
+      4, 5, 7, 4, 7, 6,     // z = hi
+      0, 1, 5, 0, 5, 4,     // y = lo
+      2, 6, 7, 2, 7, 3,     // y = hi
+      0, 4, 6, 0, 6, 2,     // x = lo
+      1, 3, 7, 1, 7, 5;     // x = hi
+  return m;
+}
+
+TriMesh joined(const TriMesh& a, const TriMesh& b) {
+  TriMesh m;
+  m.V.resize(a.V.rows() + b.V.rows(), 3);
+  m.V << a.V, b.V;
+  m.F.resize(a.F.rows() + b.F.rows(), 3);
+  m.F << a.F, (b.F.array() + int(a.V.rows())).matrix();
+  return m;
+}
+
 }  // namespace pb4u::test

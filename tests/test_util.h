@@ -31,4 +31,9 @@ const std::string& tiny_dataset();
 // An n x n grid of unit squares split into 2 n^2 triangles, in the xz plane at y = 0.
 TriMesh grid_mesh(int n, double size = 1.0);
 
+// The closed box [lo, hi] as 12 outward triangles (two per side).
+TriMesh box_mesh(const Eigen::RowVector3d& lo, const Eigen::RowVector3d& hi);
+// Two meshes as one (b's indices shifted): a surface made of parts that may overlap.
+TriMesh joined(const TriMesh& a, const TriMesh& b);
+
 }  // namespace pb4u::test

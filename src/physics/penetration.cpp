@@ -2,7 +2,9 @@
 
 #include <algorithm>
 
+#include "pb4u/body/outer_faces.h"
 #include "pb4u/spatial/signed_distance_to_surface.h"
+#include "pb4u/spatial/winding_number.h"
 #include "pb4u/util/error.h"
 
 namespace pb4u {
@@ -23,10 +25,20 @@ PenetrationFigures garment_penetration(const Eigen::MatrixXd& garment, const Eig
   if (boxed.empty()) return out;
   Eigen::MatrixXd points(boxed.size(), 3);
   for (size_t k = 0; k < boxed.size(); ++k) points.row(k) = garment.row(boxed[k]);
-  const Eigen::VectorXd d = signed_distance_to_surface(points, body_V, body_F);
-  const Eigen::Index inside = (d.array() < 0).count();
-  out.penetrating_fraction = double(inside) / double(garment.rows());
-  out.max_penetration_mm = inside > 0 ? -d.minCoeff() * 1e3 : 0.0;
+  // Inside: wrapped by the body at least once, which also holds where one part of the body is
+  // inside another (there the nearest face's side, which signed_distance_to_surface reads, can
+  // say outside). Depth: the distance to the faces no other part covers.
+  const Eigen::VectorXi wraps = WindingNumbers(body_V, body_F).at(points);
+  std::vector<Eigen::Index> inside;
+  for (Eigen::Index k = 0; k < wraps.size(); ++k)
+    if (wraps(k) >= 1) inside.push_back(k);
+  out.penetrating_fraction = double(inside.size()) / double(garment.rows());
+  if (inside.empty()) return out;
+  Eigen::MatrixXd deep(inside.size(), 3);
+  for (size_t k = 0; k < inside.size(); ++k) deep.row(Eigen::Index(k)) = points.row(inside[k]);
+  const Eigen::MatrixXi outer = outer_faces(body_V, body_F);
+  const Eigen::VectorXd d = signed_distance_to_surface(deep, body_V, outer.rows() > 0 ? outer : body_F);
+  out.max_penetration_mm = d.cwiseAbs().maxCoeff() * 1e3;
   return out;
 }
 

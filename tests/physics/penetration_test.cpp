@@ -127,6 +127,22 @@ TEST(Penetration, SphereFractionAndDeepestPoint) {
   EXPECT_EQ(none.max_penetration_mm, 0.0);
 }
 
+// A body that crosses itself (an upper arm sunk into a torso): a point inside the first box,
+// outside the second, whose nearest face is the second box's side inside the first. That
+// face's side says "outside"; the point is inside the body, as deep as its distance to the
+// faces no part covers. Faces are covered or not whole, so the depth is exact to a face's size
+// where parts cross.
+TEST(Penetration, APointInsideOnePartNearAnotherPartsCoveredFaceIsInside) {
+  const TriMesh body = test::joined(test::box_mesh({0, 0, 0}, {1, 1, 1}), test::box_mesh({0.8, 0.2, 0.2}, {1.8, 0.8, 0.8}));
+  const Eigen::MatrixXd p = (Eigen::MatrixXd(1, 3) << 0.75, 0.5, 0.5).finished();
+  EXPECT_GT(signed_distance_to_surface(p, body.V, body.F)(0), 0);  // the nearest face's side
+  const PenetrationFigures figures = garment_penetration(p, body.V, body.F);
+  EXPECT_EQ(figures.penetrating_fraction, 1.0);
+  // The nearest outer face: a triangle of the second box's y = 0.2 side (its centroid is outside
+  // the first box), at (0.8, 0.2, 0.5); the first box's sides are 0.5 m away.
+  EXPECT_NEAR(figures.max_penetration_mm, 1e3 * std::hypot(0.05, 0.3), 1e-9);
+}
+
 TEST(Penetration, SummariesOverFramesAndSequences) {
   const PenetrationSummary a = summarize_penetration(std::vector<PenetrationFigures>{{0.1, 2.0}, {0.3, 5.0}, {0.2, 1.0}});
   EXPECT_NEAR(a.penetrating_fraction, 0.2, 1e-15);
