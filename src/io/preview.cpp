@@ -12,7 +12,7 @@
 
 #include <unistd.h>
 
-#include "pb4u/spatial/signed_distance_to_surface.h"
+#include "pb4u/spatial/winding_number.h"
 #include "pb4u/util/error.h"
 #include "pb4u/util/plot_script.h"
 #include "pb4u/util/remove_tree.h"
@@ -38,8 +38,9 @@ void write_colored_obj(const std::string& path, const Eigen::MatrixXd& V, const 
 std::vector<bool> inside_body(const Eigen::MatrixXd& garment, const Eigen::MatrixXd& body, const Eigen::MatrixXi& faces) {
   std::vector<bool> inside(garment.rows(), false);
   if (faces.rows() == 0 || !garment.allFinite()) return inside;
-  const Eigen::VectorXd d = signed_distance_to_surface(garment, body, faces);
-  for (Eigen::Index i = 0; i < d.size(); ++i) inside[i] = d[i] < 0;
+  // As physics/penetration.h counts them: wrapped by the body (also where its parts overlap).
+  const Eigen::VectorXi wraps = WindingNumbers(body, faces).at(garment);
+  for (Eigen::Index i = 0; i < wraps.size(); ++i) inside[i] = wraps[i] >= 1;
   return inside;
 }
 
