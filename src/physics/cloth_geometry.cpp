@@ -44,8 +44,14 @@ ClothGeometry make_cloth_geometry(const TriMesh& rest, torch::Dtype dtype, torch
                      ? dihedral_angles(matrix_to_tensor(V), g.hinges, degenerate_area)
                      : torch::zeros({h.size()}, torch::kFloat64);
 
+  const Eigen::MatrixXi E = unique_edges(F);
+  Eigen::VectorXd L(E.rows());
+  for (Eigen::Index e = 0; e < E.rows(); ++e) L(e) = (V.row(E(e, 0)) - V.row(E(e, 1))).norm();
+  g.edge_rest_length = matrix_to_tensor(L).reshape({E.rows()});
+
   auto opts = torch::TensorOptions().dtype(dtype).device(device);
-  for (torch::Tensor* t : {&g.dm_inverse, &g.face_area, &g.vertex_area, &g.hinge_weight, &g.rest_angle})
+  for (torch::Tensor* t : {&g.dm_inverse, &g.face_area, &g.vertex_area, &g.hinge_weight, &g.rest_angle,
+                           &g.edge_rest_length})
     *t = t->to(opts);
   g.faces = g.faces.to(device);
   g.hinges = g.hinges.to(device);

@@ -15,6 +15,7 @@
 #include "pb4u/physics/energy_report.h"
 #include "pb4u/physics/intersection_free_start.h"
 #include "pb4u/physics/quasi_newton_hessian.h"
+#include "pb4u/physics/strain_barrier.h"
 #include "pb4u/util/eigen_tensor.h"
 #include "pb4u/util/error.h"
 #include "pb4u/util/stopwatch.h"
@@ -121,6 +122,22 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
   const int64_t nf = free.size(0);
 
   SolverResult result;
+  // Strain barrier: the start's overstretched edges shortened (Provot, pins held) to half the
+  // barrier's band inside the limit; an edge still past it (between two pins) stays out.
+  const bool strain = config.strain_limit > 0;
+  Eigen::MatrixXi strain_edges;
+  Eigen::VectorXd rest_length;
+  std::vector<char> strain_excluded;
+  StrainBarrierSettings strain_settings{config.strain_limit, config.strain_barrier_gap, config.strain_barrier_stiffness};
+  if (strain) {
+    strain_edges = unique_edges(index_tensor_to_matrix(cloth.faces));
+    rest_length = tensor_to_matrix(cloth.edge_rest_length.to(torch::kCPU, torch::kFloat64).reshape({-1, 1})).col(0);
+    const torch::Tensor pinned_cpu = pinned.to(torch::kCPU).contiguous();
+    const std::vector<char> fixed(pinned_cpu.data_ptr<bool>(), pinned_cpu.data_ptr<bool>() + n);
+    const double inside = std::max(0.0, config.strain_limit - 0.5 * config.strain_barrier_gap);
+    x_base = matrix_to_tensor(shorten_overstretched_edges(tensor_to_matrix(x_base), strain_edges, rest_length, inside, fixed),
+                              opts.dtype().toScalarType(), state.x.device());
+  }
   if (barrier && config.initial_hessian != "elastic")
     throw Error("reference solver: solver.contact: barrier needs solver.initial_hessian: elastic");
   // Barrier contact: the solve starts from an intersection-free cloth (pins where it could bring
@@ -151,6 +168,16 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
     candidates = contact_candidates(start.x, {}, barrier->cloth_edges, body, {}, barrier->settings.d_hat);
     drop_pairs_of(excluded, barrier->cloth_edges, &candidates);
   }
+  auto exclude_overstretched = [&](const Eigen::MatrixXd& X) {
+    const std::vector<char> over = edges_over_strain(X, strain_edges, rest_length, config.strain_limit);
+    if (strain_excluded.empty()) strain_excluded.assign(over.size(), 0);
+    for (size_t e = 0; e < over.size(); ++e)
+      if (over[e] && !strain_excluded[e]) {
+        strain_excluded[e] = 1;
+        ++result.strain_excluded;
+      }
+  };
+  if (strain) exclude_overstretched(tensor_to_matrix(x_base));
   // The vertices out of barrier contact (the start found them no free place, or the placed body
   // caught them) fall back to the penalty term (SPEC 3.3) until a later step frees them.
   PenaltyFallback fallback;
@@ -177,11 +204,15 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
     *grad = torch::autograd::grad({E}, {p})[0].reshape({-1});
     ++result.evaluations;
     double energy = E.item<double>();
-    if (barrier) {
+    if (barrier || strain) {
+      const Eigen::MatrixXd X = positions(q);
       Eigen::MatrixXd G = Eigen::MatrixXd::Zero(n, 3);
-      const BarrierValue b = barrier_potential(positions(q), barrier->cloth_edges, body, candidates, settings, &G);
-      energy += b.energy;
-      closest = b.min_distance;
+      if (barrier) {
+        const BarrierValue b = barrier_potential(X, barrier->cloth_edges, body, candidates, settings, &G);
+        energy += b.energy;
+        closest = b.min_distance;
+      }
+      if (strain) energy += strain_barrier(X, strain_edges, rest_length, strain_settings, strain_excluded, &G).energy;
       *grad += free_coordinates(G, free, opts);
     }
     return energy;
@@ -224,9 +255,11 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
       const torch::Tensor c = fallback.stiffness(x, state, cloth, contact);
       sum = sum.defined() ? sum + c : c;
     }
-    if (barrier) {
+    if (barrier || strain) {
+      const Eigen::MatrixXd X = positions(q);
       Eigen::VectorXd curvature = Eigen::VectorXd::Zero(n);
-      barrier_potential(positions(q), barrier->cloth_edges, body, candidates, settings, nullptr, &curvature);
+      if (barrier) barrier_potential(X, barrier->cloth_edges, body, candidates, settings, nullptr, &curvature);
+      if (strain) strain_barrier(X, strain_edges, rest_length, strain_settings, strain_excluded, nullptr, &curvature);
       if (curvature.maxCoeff() > 0) {
         torch::Tensor c = torch::from_blob(curvature.data(), {n}, torch::kFloat64).clone().to(opts);
         sum = sum.defined() ? sum + c : c;
@@ -295,6 +328,7 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
     bool body_moved = false;
     if (barrier && move_body()) {
       body_moved = true;
+      if (strain) exclude_overstretched(positions(q));  // edges the carried cloth stretched past the limit
       history.clear();  // the objective moved with the body
       E = evaluate(q, &g);
     }
@@ -335,6 +369,18 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
         break;
       }
       if (longest > kMaxContactStep) t *= kMaxContactStep / longest;
+    }
+    if (strain) {  // no edge past the limit anywhere along the step
+      const Eigen::MatrixXd X = positions(q);
+      t = std::min(t, max_strain_step(X, positions(q + t * d) - X, strain_edges, rest_length, config.strain_limit,
+                                      strain_excluded) * t);
+      if (!(t > 0)) {  // an edge at the limit along d: nothing left to take
+        if (body_moved) {
+          ++result.iterations;
+          continue;
+        }
+        break;
+      }
     }
     bool accepted = false;
     torch::Tensor q_new, g_new;
@@ -378,6 +424,8 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
 
   if (barrier && body_left() > 0) place_body(body_left());  // the iterations ran out first
   result.x_next = x_base.index_copy(0, free, q.reshape({nf, 3})).detach();
+  if (strain)
+    result.max_strain = strain_barrier(positions(q), strain_edges, rest_length, strain_settings, strain_excluded).max_strain;
   if (barrier) {
     const Eigen::MatrixXd X = positions(q);
     ContactCandidates last = contact_candidates(X, {}, barrier->cloth_edges, body, {}, barrier->settings.d_hat);

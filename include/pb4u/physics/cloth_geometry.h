@@ -18,6 +18,7 @@ struct ClothGeometry {
                                //   k0 / k1 the vertices opposite it in face 0 / face 1
   torch::Tensor hinge_weight;  // (h) 1: l_e^2 / (4 (A0 + A1)) at rest (SPEC 3.2)
   torch::Tensor rest_angle;    // (h) rad: zeros unless built with rest angles
+  torch::Tensor edge_rest_length;  // (e) m: rest length of each edge of unique_edges(faces)
 
   // (n) kg: lumped masses density * vertex_area, so any sampled material reuses the geometry.
   // density in kg/m^2.

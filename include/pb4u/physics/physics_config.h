@@ -69,6 +69,12 @@ struct ReferenceSolverConfig {
   // step before. 0: kappa stays fixed.
   double barrier_stiffness_max = 1e5;
   double barrier_gap = 0.1;
+  // Strain limiting as a barrier (strain_barrier.h, after C-IPC): no cloth edge longer than
+  // (1 + strain_limit) x its rest length at the end of any line-search step; 0: off (SPEC 8's
+  // solver has no limit). The barrier acts within strain_barrier_gap of the limit.
+  double strain_limit = 0;
+  double strain_barrier_gap = 0.01;
+  double strain_barrier_stiffness = 1.0;  // J
 
   template <class V>
   void visit(V& v) {
@@ -83,6 +89,9 @@ struct ReferenceSolverConfig {
     v("barrier_stiffness", barrier_stiffness, positive());
     v("barrier_stiffness_max", barrier_stiffness_max, non_negative());
     v("barrier_gap", barrier_gap, in_range(0.0, 1.0));
+    v("strain_limit", strain_limit, non_negative());
+    v("strain_barrier_gap", strain_barrier_gap, positive());
+    v("strain_barrier_stiffness", strain_barrier_stiffness, positive());
   }
 };
 
