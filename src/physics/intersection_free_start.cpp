@@ -62,6 +62,7 @@ FeasibleStart intersection_free_start(const Eigen::MatrixXd& x_t, const Eigen::M
     if (!any && through.empty()) break;
   }
   out.pushed_out = int(std::count(moved.begin(), moved.end(), 1));
+  out.pushed = moved;
   // What the rounds left (edges through the body, pairs touching it: a pushed edge can come to
   // rest on a body edge) leaves contact.
   out.excluded = vertices_not_free_of(out.x, cloth_edges, body_t, body_faces, d_hat);

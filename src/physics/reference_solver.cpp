@@ -27,6 +27,9 @@ namespace {
 constexpr double kMaxContactStep = 5e-2;
 // CCD-certified body moves per step; a body not at its pose after them is placed there.
 constexpr int kMaxBodyMoves = 24;
+// Rounds of Provot's pass and the push out of the body that make a start both intersection-free
+// and within the strain limit (solver.strain_limit).
+constexpr int kStartRounds = 10;
 
 // The rows `free` of an n x 3 matrix, flat (3 x free rows): the solver's coordinates.
 torch::Tensor free_coordinates(const Eigen::MatrixXd& rows, const torch::Tensor& free, const torch::TensorOptions& opts) {
@@ -164,6 +167,25 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
     result.excluded = start.excluded_count;
     excluded = std::move(start.excluded);
     body = make_contact_surface(barrier->body_t, barrier->body_faces);
+    if (strain) {
+      // The pushes out of the body stretch edges. Alternating projections onto the two sets:
+      // Provot (pins held), then out of the body again, until no edge is past the limit or
+      // kStartRounds are spent. The last pass is the body's, so contact keeps its guarantee;
+      // edges still past the limit leave the strain barrier.
+      const torch::Tensor pinned_cpu = pinned.to(torch::kCPU).contiguous();
+      const std::vector<char> held(pinned_cpu.data_ptr<bool>(), pinned_cpu.data_ptr<bool>() + n);
+      const double inside = std::max(0.0, config.strain_limit - 0.5 * config.strain_barrier_gap);
+      for (int round = 0; round < kStartRounds; ++round) {
+        const std::vector<char> over = edges_over_strain(start.x, strain_edges, rest_length, config.strain_limit);
+        if (std::find(over.begin(), over.end(), 1) == over.end()) break;
+        const Eigen::MatrixXd shortened = shorten_overstretched_edges(start.x, strain_edges, rest_length, inside, held);
+        FeasibleStart again = intersection_free_start(shortened, shortened, barrier->cloth_edges, barrier->body_t,
+                                                      barrier->body_faces, barrier->settings.d_hat);
+        start.x = std::move(again.x);
+        excluded = std::move(again.excluded);
+        result.excluded = again.excluded_count;
+      }
+    }
     x_base = matrix_to_tensor(start.x, opts.dtype().toScalarType(), state.x.device());
     candidates = contact_candidates(start.x, {}, barrier->cloth_edges, body, {}, barrier->settings.d_hat);
     drop_pairs_of(excluded, barrier->cloth_edges, &candidates);
@@ -410,6 +432,14 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
     g = g_new;
     E = E_new;
     ++result.iterations;
+    // An edge left out of the strain barrier that the stretch term has pulled back out of the
+    // barrier's band rejoins it (its energy there is zero, so E stands).
+    if (strain && result.strain_excluded > 0) {
+      const std::vector<char> near = edges_over_strain(positions(q), strain_edges, rest_length,
+                                                       config.strain_limit - config.strain_barrier_gap);
+      for (size_t e = 0; e < near.size(); ++e)
+        if (strain_excluded[e] && !near[e]) strain_excluded[e] = 0;
+    }
     // IPC's adaptive stiffness: a pair still closing in below barrier_gap x d_hat doubles kappa
     // (up to barrier_stiffness_max), which moves the objective: the curvature pairs go.
     if (barrier && closest < config.barrier_gap * settings.d_hat && closest < accepted_closest &&
@@ -432,9 +462,11 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
     drop_pairs_of(excluded, barrier->cloth_edges, &last);
     result.min_distance = barrier_potential(X, barrier->cloth_edges, body, last, settings).min_distance;
     spdlog::debug("barrier step: {} iterations, {} evaluations, {} candidate pairs last, min distance {:.3g} mm, "
-                  "body placed {:.3g} mm short, kappa {:.3g}, {:.0f} ms",
+                  "body placed {:.3g} mm short, kappa {:.3g}, max strain {:.3g} ({} edges out of the strain barrier), "
+                  "{:.0f} ms",
                   result.iterations, result.evaluations, candidates.size(), 1e3 * result.min_distance,
-                  1e3 * result.body_lag, settings.stiffness, ms_since(start_time));
+                  1e3 * result.body_lag, settings.stiffness, result.max_strain, result.strain_excluded,
+                  ms_since(start_time));
   }
   result.energy = E;
   result.gradient_norm = nf ? g.abs().max().item<double>() : 0.0;

@@ -7,6 +7,7 @@
 #include <random>
 
 #include "pb4u/mesh/edges.h"
+#include "pb4u/physics/penetration.h"
 #include "pb4u/physics/reference_solver.h"
 #include "pb4u/physics/strain_barrier.h"
 #include "physics_test_util.h"
@@ -128,6 +129,45 @@ TEST(StrainBarrier, TheSolverKeepsASoftHeavyClothUnderTheLimit) {
   EXPECT_LE(limited_strain, 0.1);
   EXPECT_GT(limited_strain, 0.09) << "the barrier holds the cloth at its limit";
   EXPECT_EQ(limited_excluded, 0);
+}
+
+// A refined network step that is both inside the body and overstretched (30%): a start that
+// alternates Provot's pass and the push out of the body, then 5 iterations, leave it free of
+// the body and within the limit, with nothing left out of either barrier.
+TEST(StrainBarrier, ARefinedStepInsideTheBodyAndOverstretchedEndsFreeAndWithinTheLimit) {
+  TriMesh g;
+  FrameState state = test::cloth_above_sphere(6, 0.3, 0.25, 0.002, 3, &g);
+  const ClothGeometry cloth = make_cloth_geometry(g);
+  const Eigen::MatrixXi E = unique_edges(g.F);
+  const Eigen::VectorXd L = rest_lengths(g.V, E);
+  Eigen::MatrixXd bad = tensor_to_matrix(state.x);
+  const Eigen::RowVector3d centre = bad.colwise().mean();
+  for (Eigen::Index i = 0; i < bad.rows(); ++i) {
+    bad(i, 0) = centre(0) + 1.3 * (bad(i, 0) - centre(0));
+    bad(i, 2) = centre(2) + 1.3 * (bad(i, 2) - centre(2));
+    bad(i, 1) -= 0.01;  // 8 mm into the sphere at its top
+  }
+  ASSERT_GT(garment_penetration(bad, tensor_to_matrix(state.body.next_vertices), index_tensor_to_matrix(state.body.faces))
+                .penetrating_fraction, 0.0);
+  PhysicsConfig config;
+  config.solver.contact = "barrier";
+  config.solver.strain_limit = 0.1;
+  config.solver.max_iterations = 5;
+  const TermList terms = build_terms(state.effects, config);
+  const std::optional<BodyContact> contact = body_contact_for(state, config);
+  const std::optional<BarrierStepInput> barrier = barrier_step_input(state, cloth, config.solver);
+  ASSERT_TRUE(barrier.has_value());
+  const torch::Tensor start = matrix_to_tensor(bad);
+  const SolverResult r = solve_reference_step(state, cloth, terms, contact ? &*contact : nullptr, config.solver, &*barrier, &start);
+  const Eigen::MatrixXd X = tensor_to_matrix(r.x_next);
+  EXPECT_EQ(r.excluded, 0);
+  EXPECT_EQ(r.strain_excluded, 0);
+  double max_strain = 0;
+  for (Eigen::Index e = 0; e < E.rows(); ++e) max_strain = std::max(max_strain, (X.row(E(e, 0)) - X.row(E(e, 1))).norm() / L(e) - 1);
+  EXPECT_LE(max_strain, 0.1);
+  const ContactSurface body = make_contact_surface(barrier->body_next, barrier->body_faces);
+  EXPECT_TRUE(cloth_edges_through_body(X, barrier->cloth_edges, body).empty());
+  EXPECT_EQ(garment_penetration(X, barrier->body_next, barrier->body_faces).penetrating_fraction, 0.0);
 }
 
 }  // namespace

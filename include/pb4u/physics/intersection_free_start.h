@@ -22,6 +22,7 @@ struct FeasibleStart {
   std::vector<char> excluded;   // per cloth vertex: 1 where no free place was found (out of contact)
   int excluded_count = 0;
   int pushed_out = 0;           // vertices moved out of the body at t (inside or touching it)
+  std::vector<char> pushed;     // per cloth vertex: 1 for those
   double target_progress = 1;   // fraction of the move towards the target reached
 };
 
