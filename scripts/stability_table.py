@@ -7,7 +7,8 @@ and a cached solver run of the same config) is their methods merged level by lev
 Per sequence (garment, motion, body), level and network: its
 positive energy (stretch + bending + collision) as a ratio to the solver's on the same sequence
 (mean per frame, and largest frame), the share of garment vertices inside the body (mean and
-largest over frames), the deepest penetration (mm), and where it diverged. With --no-reference
+largest over frames), the deepest penetration (mm), the cloth edges through the body (most on a
+frame, share of frames with any), and where it diverged. With --no-reference
 (runs of the networks alone, e.g. every held-out motion, where the solver would take hours):
 the energies in J instead of ratios, and how many rollouts diverged. Standard library only."""
 import argparse
@@ -89,8 +90,8 @@ def rows_of(run, label, reference):
                 max_r = ratio(q.get("max_positive_energy"), ref.get("max_positive_energy"))
                 out.append([label, case, str(level["level"]), name, "%d / %d" % (q["frames"], ref["frames"]), mean_r,
                             max_r, percent(q.get("penetrating_fraction")), percent(q.get("max_penetrating_fraction")),
-                            mm(q.get("max_penetration_mm")), mm(ref.get("max_penetration_mm")), diverged(q),
-                            diverged(ref)])
+                            mm(q.get("max_penetration_mm")), mm(ref.get("max_penetration_mm"))] + edges(q) +
+                           [edges(ref)[0], diverged(q), diverged(ref)])
                 s["cases"] += 1
                 s["diverged"] += bool(q.get("diverged"))
                 for k, v in (("mean_ratio", mean_r), ("max_ratio", max_r)):
@@ -102,9 +103,10 @@ def rows_of(run, label, reference):
                     s["mean_ratios"].append(float(mean_r))
                 except ValueError:
                     pass
-                for k, key in (("inside", "max_penetrating_fraction"), ("depth", "max_penetration_mm")):
-                    if q.get(key) is not None:
-                        s[k] = max(s[k] or 0.0, q[key])
+                for k, key in (("inside", "max_penetrating_fraction"), ("depth", "max_penetration_mm"),
+                               ("edges", "max_edges_through")):
+                    if q.get(key) is not None and q[key] >= 0:
+                        s[k] = max(s.get(k) or 0.0, q[key])
     return out, summary
 
 
@@ -122,17 +124,22 @@ def rows_without_reference(run, label):
                 out.append([label, case, str(level["level"]), name, str(q["frames"]),
                             "%.3g" % e if e is not None else "n/a", "%.3g" % emax if emax is not None else "n/a",
                             percent(q.get("penetrating_fraction")), percent(q.get("max_penetrating_fraction")),
-                            mm(q.get("max_penetration_mm")), diverged(q)])
+                            mm(q.get("max_penetration_mm"))] + edges(q) + [diverged(q)])
                 s["cases"] += 1
                 if q.get("diverged"):
                     s["diverged"] += 1
                     s["stopped"].append("%s / %s (%s)" % (q["garment"], q["motion"], q.get("diverged_at_frame")))
                 if e is not None and math.isfinite(e):
                     s["means"].append(e)
-                for k, key in (("inside", "max_penetrating_fraction"), ("depth", "max_penetration_mm")):
-                    if q.get(key) is not None:
-                        s[k] = max(s[k] or 0.0, q[key])
+                for k, key in (("inside", "max_penetrating_fraction"), ("depth", "max_penetration_mm"),
+                               ("edges", "max_edges_through")):
+                    if q.get(key) is not None and q[key] >= 0:
+                        s[k] = max(s.get(k) or 0.0, q[key])
     return out, summary
+
+
+def most_edges(v):
+    return "%d" % v["edges"] if v.get("edges") is not None else "n/a"
 
 
 def print_without_reference(specs, note):
@@ -148,14 +155,25 @@ def print_without_reference(specs, note):
         print(note + "\n")
     print("No reference solver: E+ = positive energy (stretch + bending + collision) in J per frame, mean over the "
           "frames run and largest frame. Inside: share of garment vertices inside the body (mean / largest over "
-          "frames); depth: deepest penetration. Diverged: stopped by the guard at that frame.\n")
+          "frames); depth: deepest penetration; edges thru: cloth edges through a body triangle (most on a frame, "
+          "share of frames with any). Diverged: stopped by the guard at that frame.\n")
     print(table(["run", "case (garment / motion / body)", "level", "network", "frames", "E+ mean J", "E+ max J",
-                 "inside mean %", "inside max %", "depth max mm", "diverged"], rows))
+                 "inside mean %", "inside max %", "depth max mm", "edges thru max", "edges thru frames %",
+                 "diverged"], rows))
     print("\n## Per network\n")
     print(table(["run", "network", "cases", "diverged", "median E+ mean J", "worst inside %", "deepest mm",
-                 "stopped (garment / motion (frame))"],
+                 "most edges thru", "stopped (garment / motion (frame))"],
                 [[label, name, str(v["cases"]), str(v["diverged"]), median(v["means"]), percent(v["inside"]),
-                  mm(v["depth"]), "; ".join(v["stopped"]) or "-"] for (label, name), v in summaries.items()]))
+                  mm(v["depth"]), most_edges(v), "; ".join(v["stopped"]) or "-"] for (label, name), v in summaries.items()]))
+
+
+def edges(q):
+    """The most cloth edges through the body on a frame, and the share of frames with any: 'n/a'
+    for runs made before evaluate counted them."""
+    most, frames = q.get("max_edges_through"), q.get("edges_through_frames")
+    if most is None or most < 0:
+        return ["n/a", "n/a"]
+    return ["%d" % most, percent(frames) if frames is not None else "n/a"]
 
 
 def median(values):
@@ -191,16 +209,19 @@ def main():
         print(a.note + "\n")
     print("E+ = positive energy (stretch + bending + collision, J per frame); ratios are the network's over the "
           "solver's on the same sequence (mean over each one's measured frames, and largest frame). Inside: share "
-          "of garment vertices inside the body (mean / largest over frames); depth: deepest penetration. "
+          "of garment vertices inside the body (mean / largest over frames); depth: deepest penetration; edges "
+          "thru: cloth edges through a body triangle (most on a frame, share of frames with any). "
           "Frames: measured by the network / by the solver.\n")
     print(table(["run", "case (garment / motion / body)", "level", "network", "frames", "E+ mean ratio",
                  "E+ max ratio", "inside mean %", "inside max %", "depth max mm", "solver depth max mm",
-                 "diverged", "solver diverged"], rows))
+                 "edges thru max", "edges thru frames %", "solver edges thru max", "diverged", "solver diverged"],
+                rows))
     print("\n## Worst case per network\n")
     print(table(["run", "network", "cases", "diverged", "median E+ mean ratio", "worst E+ mean ratio",
-                 "worst E+ max ratio", "worst inside %", "deepest mm"],
+                 "worst E+ max ratio", "worst inside %", "deepest mm", "most edges thru"],
                 [[label, name, str(v["cases"]), str(v["diverged"]), median(v["mean_ratios"]), "%.3g" % v["mean_ratio"],
-                  "%.3g" % v["max_ratio"], percent(v["inside"]), mm(v["depth"])] for (label, name), v in summaries.items()]))
+                  "%.3g" % v["max_ratio"], percent(v["inside"]), mm(v["depth"]), most_edges(v)]
+                 for (label, name), v in summaries.items()]))
 
 
 if __name__ == "__main__":
