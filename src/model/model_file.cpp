@@ -118,10 +118,11 @@ void set_inference_switches(ModelFile& model, const std::vector<std::string>& as
     if (eq == std::string::npos || eq + 1 == a.size())
       throw Error("--set " + a + ": expected KEY=VALUE");
     if (key != "update_scaling" && key != "smooth_distance" && key != "propagation_control" &&
-        key != "contact_projection" && key != "strain_limit" && key != "refine_iterations")
+        key != "contact_projection" && key != "strain_limit" && key != "refine_iterations" &&
+        key != "refine_contact" && key != "refine_strain_limit")
       throw Error("--set " + a + ": only update_scaling, smooth_distance, propagation_control, "
-                  "contact_projection, strain_limit and refine_iterations can change without retraining (the "
-                  "weights stay as trained)");
+                  "contact_projection, strain_limit, refine_iterations, refine_contact and refine_strain_limit "
+                  "can change without retraining (the weights stay as trained)");
     node[key] = a.substr(eq + 1);
   }
   std::stringstream yaml;
@@ -165,9 +166,15 @@ std::string network_name(const ModelConfig& config) {
 }  // namespace
 
 std::string method_name(const ModelConfig& config) {
+  std::string refine;
+  if (config.refine_iterations > 0) {
+    refine = " + " + std::to_string(config.refine_iterations) + " it";
+    if (config.refine_contact == "barrier" && config.refine_strain_limit > 0) refine += " (barrier, strain barrier)";
+    else if (config.refine_contact == "barrier") refine += " (barrier)";
+    else if (config.refine_strain_limit > 0) refine += " (strain barrier)";
+  }
   return network_name(config) + (config.contact_projection > 0 ? " + projection" : "") +
-         (config.strain_limit > 0 ? " + strain limit" : "") +
-         (config.refine_iterations > 0 ? " + " + std::to_string(config.refine_iterations) + " it" : "");
+         (config.strain_limit > 0 ? " + strain limit" : "") + refine;
 }
 
 int64_t parameter_count(const torch::nn::Module& module) {

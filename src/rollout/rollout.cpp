@@ -84,7 +84,10 @@ StepFunction network_stepper(const ModelFile& model, const GarmentTopology& topo
   if (model.config.refine_iterations <= 0) return step;
   RefineConfig refine;
   refine.iterations = model.config.refine_iterations;
-  return refined_stepper(step, ReferenceSolverConfig{}, refine);
+  ReferenceSolverConfig solver;
+  solver.contact = model.config.refine_contact;
+  solver.strain_limit = model.config.refine_strain_limit;
+  return refined_stepper(step, solver, refine);
 }
 
 StepFunction reference_stepper(const ReferenceSolverConfig& solver, std::shared_ptr<ContactStepLog> log) {

@@ -116,7 +116,8 @@ TEST(ModelFile, ExportSetChangesOnlyInferenceSwitches) {
   auto pa = ckpt.model->named_parameters(), pb = detail.model->named_parameters();
   for (const auto& p : pa) EXPECT_TRUE(torch::equal(p.value(), pb[p.key()])) << p.key();
   // Anything that would need other weights, or a bad value, is refused naming the key; no file.
-  for (const std::string& bad : {std::string("latent=32"), std::string("update_scaling=half")}) {
+  for (const std::string& bad :
+       {std::string("latent=32"), std::string("update_scaling=half"), std::string("refine_contact=soft")}) {
     auto e = test::run_pb4u("export --checkpoint " + tiny_checkpoint() + " --out " + dir + "/bad.h5 --set " + bad);
     EXPECT_EQ(e.exit_code, 1) << bad;
     EXPECT_NE(e.err.find(bad.substr(0, bad.find('='))), std::string::npos) << e.err;
@@ -385,6 +386,24 @@ TEST(Simulate, RefineRunsTheSolverFromTheNetworksStepAndNeedsTheNetwork) {
   const auto from_file = read_csv(out + "/file/energies.csv");
   EXPECT_NEAR(std::stod(from_file[2][residual]), std::stod(refined[2][residual]),
               1e-9 + 1e-6 * std::stod(refined[2][residual]));
+  // And the refinement's solver settings as switches of the file: barrier contact (no body here)
+  // and the strain barrier, as the scene's physics.solver keys give them.
+  ASSERT_EQ(test::run_pb4u("-q export --checkpoint " + tiny_checkpoint() + " --set refine_iterations=20 " +
+                           "--set refine_contact=barrier --set refine_strain_limit=0.05 --out " + out + "/limited.h5")
+                .exit_code,
+            0);
+  EXPECT_EQ(method_name(load_model_file(out + "/limited.h5").config), "Pb4U + 20 it (barrier, strain barrier)");
+  r = test::run_pb4u("-q simulate --checkpoint " + out + "/limited.h5 --scene " + scene + " --out " + out + "/lfile");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = test::run_pb4u("-q simulate --checkpoint " + tiny_checkpoint() + " --scene " + scene +
+                     " --refine 20 --set physics.solver.contact=barrier --set physics.solver.strain_limit=0.05 --out " +
+                     out + "/lscene");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto limited_file = read_csv(out + "/lfile/energies.csv"), limited_scene = read_csv(out + "/lscene/energies.csv");
+  for (size_t f = 1; f < limited_scene.size(); ++f)
+    EXPECT_EQ(limited_file[f], limited_scene[f]) << "frame " << f - 1;
+  // The limit moved the refined cloth: the untrained network stretches the hanging cloth past 5%.
+  EXPECT_NE(limited_file[3], read_csv(out + "/refined/energies.csv")[3]);
   r = test::run_pb4u("-q simulate --method reference --scene " + scene + " --refine 2 --out " + out + "/x");
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.err.find("--refine: refines the network's step"), std::string::npos) << r.err;

@@ -25,9 +25,14 @@ struct ModelConfig {
   // (physics/step_constraints.h). 0: off (training never limits).
   double strain_limit = 0.0;
   // > 0: at inference each step (after the two passes above) is refined by this many
-  // iterations of the reference solver with its default settings (penalty contact;
-  // rollout/refined_step.h). 0: off (training never refines).
+  // iterations of the reference solver (rollout/refined_step.h) with its default settings
+  // but the two below. 0: off (training never refines).
   int refine_iterations = 0;
+  // The refinement's body contact: "penalty" (SPEC 3.3) or "barrier" (intersection-free), and
+  // its strain limit as a barrier (physics/strain_barrier.h; 0: none). With barrier contact
+  // and a limit the refined step needs neither pass above (docs/physics.md).
+  std::string refine_contact = "penalty";
+  double refine_strain_limit = 0.0;
   int latent = 128;                        // width of every latent vector and hidden layer
   int mlp_hidden_layers = 2;               // hidden layers per MLP
   int num_blocks = 15;                     // N MeshGraphNet blocks in the update stack
@@ -64,6 +69,8 @@ struct ModelConfig {
     v("contact_projection", contact_projection, in_range(0.0, 0.05));
     v("strain_limit", strain_limit, in_range(0.0, 10.0));
     v("refine_iterations", refine_iterations, int_at_least(0));
+    v("refine_contact", refine_contact, one_of({"penalty", "barrier"}));
+    v("refine_strain_limit", refine_strain_limit, non_negative());
     v("latent", latent, int_at_least(1));
     v("mlp_hidden_layers", mlp_hidden_layers, int_at_least(1));
     v("num_blocks", num_blocks, int_at_least(0));
