@@ -175,16 +175,28 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
       const torch::Tensor pinned_cpu = pinned.to(torch::kCPU).contiguous();
       const std::vector<char> held(pinned_cpu.data_ptr<bool>(), pinned_cpu.data_ptr<bool>() + n);
       const double inside = std::max(0.0, config.strain_limit - 0.5 * config.strain_barrier_gap);
-      for (int round = 0; round < kStartRounds; ++round) {
-        const std::vector<char> over = edges_over_strain(start.x, strain_edges, rest_length, config.strain_limit);
-        if (std::find(over.begin(), over.end(), 1) == over.end()) break;
-        const Eigen::MatrixXd shortened = shorten_overstretched_edges(start.x, strain_edges, rest_length, inside, held);
+      // What a start leaves out of either barrier; the rounds keep the best start they reach.
+      auto left_out = [&](const Eigen::MatrixXd& X, const std::vector<char>& out) {
+        const std::vector<char> over = edges_over_strain(X, strain_edges, rest_length, config.strain_limit);
+        return std::count(over.begin(), over.end(), 1) + std::count(out.begin(), out.end(), 1);
+      };
+      Eigen::MatrixXd X = start.x;
+      std::vector<char> out = excluded;
+      auto best = left_out(X, out);
+      for (int round = 0; round < kStartRounds && best > 0; ++round) {
+        const Eigen::MatrixXd shortened = shorten_overstretched_edges(X, strain_edges, rest_length, inside, held);
         FeasibleStart again = intersection_free_start(shortened, shortened, barrier->cloth_edges, barrier->body_t,
                                                       barrier->body_faces, barrier->settings.d_hat);
-        start.x = std::move(again.x);
-        excluded = std::move(again.excluded);
-        result.excluded = again.excluded_count;
+        X = std::move(again.x);
+        out = std::move(again.excluded);
+        const auto now = left_out(X, out);
+        if (now < best) {
+          best = now;
+          start.x = X;
+          excluded = out;
+        }
       }
+      result.excluded = int(std::count(excluded.begin(), excluded.end(), 1));
     }
     x_base = matrix_to_tensor(start.x, opts.dtype().toScalarType(), state.x.device());
     candidates = contact_candidates(start.x, {}, barrier->cloth_edges, body, {}, barrier->settings.d_hat);
