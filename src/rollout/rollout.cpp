@@ -79,7 +79,8 @@ StepFunction network_with_passes(const ModelFile& model, const GarmentTopology& 
 
 }  // namespace
 
-StepFunction network_stepper(const ModelFile& model, const GarmentTopology& topology, int64_t k_override) {
+StepFunction network_stepper(const ModelFile& model, const GarmentTopology& topology, int64_t k_override,
+                             std::shared_ptr<ContactStepLog> log) {
   StepFunction step = network_with_passes(model, topology, k_override);
   if (model.config.refine_iterations <= 0) return step;
   RefineConfig refine;
@@ -87,7 +88,7 @@ StepFunction network_stepper(const ModelFile& model, const GarmentTopology& topo
   ReferenceSolverConfig solver;
   solver.contact = model.config.refine_contact;
   solver.strain_limit = model.config.refine_strain_limit;
-  return refined_stepper(step, solver, refine);
+  return refined_stepper(step, solver, refine, std::move(log));
 }
 
 StepFunction reference_stepper(const ReferenceSolverConfig& solver, std::shared_ptr<ContactStepLog> log) {

@@ -60,9 +60,9 @@ SimulateResult simulate(const SceneConfig& scene, const std::string& scene_path,
   std::shared_ptr<ContactStepLog> contact_log;
   if (model) {
     topology = build_garment_topology(setup.garment, "garment");
-    step = network_stepper(*model, topology);
+    contact_log = std::make_shared<ContactStepLog>();
+    step = network_stepper(*model, topology, -1, model->config.refine_iterations > 0 ? contact_log : nullptr);
     if (scene.refine.enabled()) {
-      contact_log = std::make_shared<ContactStepLog>();
       step = refined_stepper(step, scene.physics.solver, scene.refine, contact_log);
     }
   } else {
@@ -70,8 +70,11 @@ SimulateResult simulate(const SceneConfig& scene, const std::string& scene_path,
     step = reference_stepper(scene.physics.solver, contact_log);
   }
   // The intersection-free solver's per-frame account of the cloth it left out of barrier contact.
-  const bool barrier_columns = (!model || scene.refine.enabled()) && scene.physics.solver.contact == "barrier" &&
-                               setup.effects.collision && body_written;
+  const bool file_refines = model && !scene.refine.enabled() && model->config.refine_iterations > 0;
+  const bool barrier_columns =
+      (!model || scene.refine.enabled() || file_refines) &&
+      (file_refines ? model->config.refine_contact : scene.physics.solver.contact) == "barrier" &&
+      setup.effects.collision && body_written;
   std::vector<std::string> terms;
   for (const auto& t : build_terms(setup.effects, scene.physics)) terms.push_back(t->name());
 
@@ -101,7 +104,7 @@ SimulateResult simulate(const SceneConfig& scene, const std::string& scene_path,
   // A model file's own refinement (refine_contact, refine_strain_limit) sets the objective its
   // residual is measured on, as a scene's refine key does through physics.solver.
   PhysicsConfig measured = scene.physics;
-  if (model && !scene.refine.enabled() && model->config.refine_iterations > 0) {
+  if (file_refines) {
     measured.solver.contact = model->config.refine_contact;
     measured.solver.strain_limit = model->config.refine_strain_limit;
   }

@@ -63,8 +63,6 @@ std::vector<Eigen::MatrixXd> skinned_pin_targets(const Body& body, const Garment
 using StepFunction = std::function<torch::Tensor(const FrameState& state, const ClothGeometry& cloth,
                                                  const TermList& terms, const BodyContact* contact)>;
 
-// The network's step: K from its calibration and the garment's Lbar, or `k_override` if >= 0.
-StepFunction network_stepper(const ModelFile& model, const GarmentTopology& topology, int64_t k_override = -1);
 // What the reference solver's intersection-free contact did in the last step (solver.contact =
 // barrier with a body; zeros otherwise): the vertices it left out of barrier contact, those of
 // them the body caught, and how far the body was from its pose when it was placed there (m).
@@ -72,6 +70,12 @@ struct ContactStepLog {
   int excluded = 0, caught_by_body = 0;
   double body_lag = 0;
 };
+
+// The network's step: K from its calibration and the garment's Lbar, or `k_override` if >= 0.
+// With the file's own refinement (refine_iterations), `log`, when given, is overwritten by each
+// refining solve.
+StepFunction network_stepper(const ModelFile& model, const GarmentTopology& topology, int64_t k_override = -1,
+                             std::shared_ptr<ContactStepLog> log = nullptr);
 
 // The reference solver's step (SPEC 8); `log`, when given, is overwritten by each step.
 StepFunction reference_stepper(const ReferenceSolverConfig& solver,
