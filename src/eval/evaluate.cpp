@@ -266,7 +266,9 @@ std::vector<LevelResult> evaluate(const EvalConfig& config, const std::vector<Ev
         const bool keep_frames = !config.preview.empty() && &method == previewed;
         std::vector<Eigen::MatrixXd> frames;
         if (keep_frames) frames.push_back(in.x0);
-        RolloutResult r = run_rollout(in, step, config.physics,
+        RolloutResult r = run_rollout(in, step,
+                                      physics_measured_for(config.physics, method.model,
+                                                           config.refine.enabled()),
                                       keep_frames ? FrameCallback([&frames](int, const Eigen::MatrixXd& x, const EnergyReport&,
                                                                             const PenetrationFigures*) { frames.push_back(x); })
                                                   : FrameCallback());

@@ -91,6 +91,15 @@ StepFunction network_stepper(const ModelFile& model, const GarmentTopology& topo
   return refined_stepper(step, solver, refine, std::move(log));
 }
 
+PhysicsConfig physics_measured_for(const PhysicsConfig& physics, const ModelFile* model, bool refined_by_config) {
+  PhysicsConfig measured = physics;
+  if (model && !refined_by_config && model->config.refine_iterations > 0) {
+    measured.solver.contact = model->config.refine_contact;
+    measured.solver.strain_limit = model->config.refine_strain_limit;
+  }
+  return measured;
+}
+
 StepFunction reference_stepper(const ReferenceSolverConfig& solver, std::shared_ptr<ContactStepLog> log) {
   auto warned = std::make_shared<bool>(false);
   return [solver, warned, log](const FrameState& state, const ClothGeometry& cloth, const TermList& terms,

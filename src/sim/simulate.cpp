@@ -101,14 +101,7 @@ SimulateResult simulate(const SceneConfig& scene, const std::string& scene_path,
 
   int excluded_frames = 0, excluded_max = 0;
   Progress bar("simulate", scene.frames, "frame");
-  // A model file's own refinement (refine_contact, refine_strain_limit) sets the objective its
-  // residual is measured on, as a scene's refine key does through physics.solver.
-  PhysicsConfig measured = scene.physics;
-  if (file_refines) {
-    measured.solver.contact = model->config.refine_contact;
-    measured.solver.strain_limit = model->config.refine_strain_limit;
-  }
-  RolloutResult r = run_rollout(in, step, measured,
+  RolloutResult r = run_rollout(in, step, physics_measured_for(scene.physics, model, scene.refine.enabled()),
                                 [&](int frame, const Eigen::MatrixXd& x, const EnergyReport& report,
                                     const PenetrationFigures* penetration) {
                                   auto row = report.terms;
