@@ -4,7 +4,7 @@
 
 namespace pb4u {
 
-std::vector<char> covered_faces(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F) {
+std::vector<char> covered_faces(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const WindingNumbers* wraps) {
   constexpr double kOffset = 1e-4;  // m outside the centroid
   Eigen::MatrixXd probes(F.rows(), 3);
   for (Eigen::Index f = 0; f < F.rows(); ++f) {
@@ -13,14 +13,14 @@ std::vector<char> covered_faces(const Eigen::MatrixXd& V, const Eigen::MatrixXi&
     const double length = n.norm();
     probes.row(f) = (a + b + c) / 3.0 + (length > 0 ? kOffset / length : 0.0) * n;
   }
-  const Eigen::VectorXi w = WindingNumbers(V, F).at(probes);
+  const Eigen::VectorXi w = wraps ? wraps->at(probes) : WindingNumbers(V, F).at(probes);
   std::vector<char> covered(size_t(F.rows()));
   for (Eigen::Index f = 0; f < F.rows(); ++f) covered[size_t(f)] = w(f) >= 1;
   return covered;
 }
 
-Eigen::MatrixXi outer_faces(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F) {
-  const std::vector<char> covered = covered_faces(V, F);
+Eigen::MatrixXi outer_faces(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const WindingNumbers* wraps) {
+  const std::vector<char> covered = covered_faces(V, F, wraps);
   std::vector<int> keep;
   for (Eigen::Index f = 0; f < F.rows(); ++f)
     if (!covered[size_t(f)]) keep.push_back(int(f));

@@ -28,7 +28,8 @@ PenetrationFigures garment_penetration(const Eigen::MatrixXd& garment, const Eig
   // Inside: wrapped by the body at least once, which also holds where one part of the body is
   // inside another (there the nearest face's side, which signed_distance_to_surface reads, can
   // say outside). Depth: the distance to the faces no other part covers.
-  const Eigen::VectorXi wraps = WindingNumbers(body_V, body_F).at(points);
+  const WindingNumbers body(body_V, body_F);
+  const Eigen::VectorXi wraps = body.at(points);
   std::vector<Eigen::Index> inside;
   for (Eigen::Index k = 0; k < wraps.size(); ++k)
     if (wraps(k) >= 1) inside.push_back(k);
@@ -36,7 +37,7 @@ PenetrationFigures garment_penetration(const Eigen::MatrixXd& garment, const Eig
   if (inside.empty()) return out;
   Eigen::MatrixXd deep(inside.size(), 3);
   for (size_t k = 0; k < inside.size(); ++k) deep.row(Eigen::Index(k)) = points.row(inside[k]);
-  const Eigen::MatrixXi outer = outer_faces(body_V, body_F);
+  const Eigen::MatrixXi outer = outer_faces(body_V, body_F, &body);
   const Eigen::VectorXd d = signed_distance_to_surface(deep, body_V, outer.rows() > 0 ? outer : body_F);
   out.max_penetration_mm = d.cwiseAbs().maxCoeff() * 1e3;
   return out;

@@ -131,14 +131,15 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
   Eigen::MatrixXi strain_edges;
   Eigen::VectorXd rest_length;
   std::vector<char> strain_excluded;
+  std::vector<char> pinned_flags;  // per vertex, for the start's Provot passes
   StrainBarrierSettings strain_settings{config.strain_limit, config.strain_barrier_gap, config.strain_barrier_stiffness};
   if (strain) {
-    strain_edges = unique_edges(index_tensor_to_matrix(cloth.faces));
+    strain_edges = barrier ? barrier->cloth_edges : unique_edges(index_tensor_to_matrix(cloth.faces));
     rest_length = tensor_to_matrix(cloth.edge_rest_length.to(torch::kCPU, torch::kFloat64).reshape({-1, 1})).col(0);
     const torch::Tensor pinned_cpu = pinned.to(torch::kCPU).contiguous();
-    const std::vector<char> fixed(pinned_cpu.data_ptr<bool>(), pinned_cpu.data_ptr<bool>() + n);
+    pinned_flags.assign(pinned_cpu.data_ptr<bool>(), pinned_cpu.data_ptr<bool>() + n);
     const double inside = std::max(0.0, config.strain_limit - 0.5 * config.strain_barrier_gap);
-    x_base = matrix_to_tensor(shorten_overstretched_edges(tensor_to_matrix(x_base), strain_edges, rest_length, inside, fixed),
+    x_base = matrix_to_tensor(shorten_overstretched_edges(tensor_to_matrix(x_base), strain_edges, rest_length, inside, pinned_flags),
                               opts.dtype().toScalarType(), state.x.device());
   }
   if (barrier && config.initial_hessian != "elastic")
@@ -172,8 +173,6 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
       // Provot (pins held), then out of the body again, until no edge is past the limit or
       // kStartRounds are spent. The last pass is the body's, so contact keeps its guarantee;
       // edges still past the limit leave the strain barrier.
-      const torch::Tensor pinned_cpu = pinned.to(torch::kCPU).contiguous();
-      const std::vector<char> held(pinned_cpu.data_ptr<bool>(), pinned_cpu.data_ptr<bool>() + n);
       const double inside = std::max(0.0, config.strain_limit - 0.5 * config.strain_barrier_gap);
       // What a start leaves out of either barrier; the rounds keep the best start they reach.
       auto left_out = [&](const Eigen::MatrixXd& X, const std::vector<char>& out) {
@@ -184,7 +183,7 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
       std::vector<char> out = excluded;
       auto best = left_out(X, out);
       for (int round = 0; round < kStartRounds && best > 0; ++round) {
-        const Eigen::MatrixXd shortened = shorten_overstretched_edges(X, strain_edges, rest_length, inside, held);
+        const Eigen::MatrixXd shortened = shorten_overstretched_edges(X, strain_edges, rest_length, inside, pinned_flags);
         FeasibleStart again = intersection_free_start(shortened, shortened, barrier->cloth_edges, barrier->body_t,
                                                       barrier->body_faces, barrier->settings.d_hat);
         X = std::move(again.x);

@@ -11,10 +11,14 @@
 
 namespace pb4u {
 
+class WindingNumbers;
+
 // Per face of the closed, outward-oriented body (V, F): 1 where another part covers it.
-std::vector<char> covered_faces(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F);
+// `wraps`: the same surface's winding numbers when the caller has them (else built here).
+std::vector<char> covered_faces(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
+                                const WindingNumbers* wraps = nullptr);
 
 // The rows of F that no other part covers, in F's order; F itself when none is covered.
-Eigen::MatrixXi outer_faces(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F);
+Eigen::MatrixXi outer_faces(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const WindingNumbers* wraps = nullptr);
 
 }  // namespace pb4u
