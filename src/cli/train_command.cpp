@@ -3,6 +3,8 @@
 #include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
 
+#include <cstdio>
+
 #include "pb4u/cli/commands.h"
 #include "pb4u/config/config_io.h"
 #include "pb4u/train/distributed.h"
@@ -24,6 +26,7 @@ void add_train_command(CLI::App& app, const GlobalOptions& global) {
     std::string config;
     std::vector<std::string> sets;
     bool resume = false;
+    bool profile = false;
     std::string out;
     DistributedOptions distributed;
   };
@@ -32,6 +35,9 @@ void add_train_command(CLI::App& app, const GlobalOptions& global) {
   cmd->add_option("--set", args->sets, "Override a config key, e.g. --set run.steps=100 (repeatable)");
   cmd->add_option("--out", args->out, "Run directory (overrides run.out)");
   cmd->add_flag("--resume", args->resume, "Continue the run from its newest checkpoint");
+  cmd->add_flag("--profile", args->profile,
+                "Time every step's stages (sampling, graph build, forward stages, each physics term, "
+                "backward, optimiser) and print a table of median and mean ms per step at the end");
   cmd->add_option("--world-size", args->distributed.world_size,
                   "Number of data-parallel ranks (processes); each trains run.batch samples a step")
       ->default_val(1);
@@ -56,7 +62,12 @@ void add_train_command(CLI::App& app, const GlobalOptions& global) {
                    args->distributed.master);
     }
     Trainer trainer(config, config_to_yaml(config), std::move(data), args->resume, group);
+    StepProfile profile;
+    if (args->profile) trainer.set_profile(&profile);
     trainer.run();
+    if (args->profile && profile.steps() > 0)
+      std::printf("Training step profile (%s, %d threads):\n%s", config.run.device.c_str(),
+                  torch::get_num_threads(), profile.table().c_str());
   });
 }
 

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <torch/cuda.h>
 
 #include "pb4u/data/lbs_frame.h"
 #include "pb4u/graph/build_graph.h"
@@ -117,6 +118,7 @@ Trainer::SampleResult Trainer::train_sample(std::mt19937_64& rng, int slot, int 
     if (!fresh && chains_[slot][chain].active()) tr = chains_[slot][chain];
   }
   if (!tr.active()) tr = fresh_trajectory(rng, rollout);
+  lap("sample: LBS start");
   const double c = config_.data.scales[tr.scale];
   result.K = sample_propagation_steps(config_.model, rng, 1.0 / c);
   result.age = tr.age;
@@ -138,6 +140,7 @@ Trainer::SampleResult Trainer::train_sample(std::mt19937_64& rng, int slot, int 
   // Poses stay at the motion's size (lbs_garment needs them so); the state gets them times c.
   auto pose = [&](int k) { return pose_body(body, motion.frames[std::clamp(k, 0, motion.num_frames() - 1)]); };
   Eigen::MatrixXd body_now = pose(tr.frame), body_next = pose(tr.frame + 1);
+  lap("body poses, pins");
 
   TermList terms = build_terms(tr.effects, config_.physics, collision_weight);
   torch::Tensor loss_sum = torch::zeros({}, torch::TensorOptions().device(device_));
@@ -159,22 +162,37 @@ Trainer::SampleResult Trainer::train_sample(std::mt19937_64& rng, int slot, int 
                                                  torch::kFloat32, device_)
                               : tr.pin_anchor;
     }
+    lap("body poses, pins");
     const int vi = variant(gi, tr.scale);
     GraphBatch graph = build_graph(state, topology_[vi], config_.model.graph_options());
-    torch::Tensor accel = model_->forward(graph, result.K);
+    lap("graph build");
+    StageTimes forward_times;
+    torch::Tensor accel = model_->forward(graph, result.K, profile_ ? &forward_times : nullptr);
     torch::Tensor x_next = euler_step(state, accel);
+    if (profile_) {
+      lap("forward: decode, Euler");  // the whole forward, then its stages moved out of it
+      for (const auto& [stage, ms] : {std::pair<const char*, double>{"forward: encode", forward_times.encode},
+                                      {"forward: propagation + update", forward_times.propagate},
+                                      {"forward: blocks", forward_times.blocks}}) {
+        profile_->add(stage, ms);
+        profile_->add("forward: decode, Euler", -ms);
+      }
+    }
     std::optional<BodyContact> contact = body_contact_for(state, config_.physics);
-    auto energies = term_energies(terms, x_next, state, cloth_[vi], contact ? &*contact : nullptr);
+    lap("contact query");
     torch::Tensor step_loss = torch::zeros({}, x_next.options());
     last_positive = 0;
-    for (size_t k = 0; k < energies.size(); ++k) {
-      step_loss = step_loss + energies[k].second;
-      const double v = energies[k].second.item<double>();
+    for (size_t k = 0; k < terms.size(); ++k) {
+      const torch::Tensor e = terms[k]->energy(x_next, state, cloth_[vi], contact ? &*contact : nullptr);
+      step_loss = step_loss + e;
+      const double v = e.item<double>();
       term_sums[k] += v;
-      if (is_positive_term(energies[k].first)) last_positive += v;
+      if (is_positive_term(terms[k]->name())) last_positive += v;
+      if (profile_) lap(("term: " + terms[k]->name()).c_str());
     }
     loss_sum = loss_sum + step_loss.detach();
     step_loss.backward();  // gradients accumulate; the next step starts from a detached state
+    lap("backward");
     state.x_prev = state.x;
     state.x = x_next.detach();
     if (i + 1 < r) {
@@ -194,11 +212,19 @@ Trainer::SampleResult Trainer::train_sample(std::mt19937_64& rng, int slot, int 
                            std::isfinite(result.loss);
     chains_[slot][chain] = room && plausible ? tr : Trajectory{};
   }
+  lap("body poses, pins");
   return result;
+}
+
+void Trainer::lap(const char* stage) {
+  if (!profile_) return;
+  if (device_.is_cuda()) torch::cuda::synchronize();
+  profile_->lap(stage);
 }
 
 StepResult Trainer::train_step() {
   auto t0 = std::chrono::steady_clock::now();
+  if (profile_) profile_->begin_step();
   model_->train();
   StepResult result;
   result.step = step_ + 1;
@@ -231,6 +257,7 @@ StepResult Trainer::train_step() {
     std::mt19937_64 rng = sample_rng(config_.run.seed, step_, int64_t(rank) * batch + j);
     if (warmup) set_normaliser_statistics(*model_, stats_start);
     for (auto& p : params) p.mutable_grad() = torch::Tensor();
+    lap("step set-up");
     SampleResult s = train_sample(rng, j, rollout, result.collision_weight);
     if (j == 0) {
       result.rollout = s.rollout;
@@ -255,8 +282,10 @@ StepResult Trainer::train_step() {
       total[2 + n_terms + k] += 1;
     }
     if (warmup) stats_added.add_(normaliser_statistics(*model_) - stats_start);
+    lap("gradients to the flat buffer");
   }
   if (group_) group_->all_reduce_sum(sums);
+  lap("all-reduce");
 
   // Every rank holds the same sums now, so every rank makes the same decisions below.
   const double samples = total[1];
@@ -282,6 +311,7 @@ StepResult Trainer::train_step() {
     torch::nn::utils::clip_grad_norm_(params, config_.optim.grad_clip);
     optimizer_->step();
   }
+  lap("clip + Adam");
   ++step_;
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   elapsed_seconds_ += result.seconds;

@@ -14,6 +14,7 @@
 #include "pb4u/model/model_file.h"
 #include "pb4u/model/checkpoint.h"
 #include "pb4u/train/metrics_log.h"
+#include "pb4u/train/step_profile.h"
 #include "pb4u/train/trainer.h"
 #include "pb4u/train/training_data.h"
 #include "pb4u/util/error.h"
@@ -135,6 +136,57 @@ TEST(Trainer, StoppedAndResumedRunEqualsUninterrupted) {
   auto rows = read_metrics(b_dir + "/metrics.jsonl");
   ASSERT_EQ(rows.size(), 20u);
   for (size_t i = 0; i < rows.size(); ++i) EXPECT_EQ(rows[i][0].second, double(i + 1));
+}
+
+// --profile: every step's stages are timed, they add up to the step, and profiling changes
+// nothing the run computes.
+TEST(Trainer, ProfiledStepsTimeTheirStagesAndTrainTheSame) {
+  configure_threads(1);
+  const std::string a_dir = test::temp_dir("profile_a"), b_dir = test::temp_dir("profile_b");
+  Trainer a = make_trainer(tiny_config(a_dir, {"run.steps=6"}));
+  a.run();
+  Trainer b = make_trainer(tiny_config(b_dir, {"run.steps=6"}));
+  StepProfile profile;
+  b.set_profile(&profile);
+  b.run();
+  auto pa = a.model()->named_parameters(), pb = b.model()->named_parameters();
+  for (const auto& p : pa) EXPECT_TRUE(torch::equal(p.value(), pb[p.key()])) << p.key();
+
+  EXPECT_EQ(profile.steps(), 6);
+  std::set<std::string> stages;
+  double mean_sum = 0;
+  for (const auto& r : profile.rows()) {
+    stages.insert(r.stage);
+    EXPECT_GE(r.mean_ms, 0) << r.stage;
+    mean_sum += r.mean_ms;
+  }
+  for (const char* stage : {"graph build", "forward: encode", "forward: propagation + update", "forward: blocks",
+                            "term: stretch", "term: inertia", "backward", "clip + Adam"})
+    EXPECT_TRUE(stages.count(stage)) << stage;
+  // The stages cover the step: their mean sum is the mean of the steps' recorded wall time.
+  const auto rows = read_metrics(b_dir + "/metrics.jsonl");
+  double step_ms = 0;
+  for (const auto& row : rows)
+    for (const auto& [key, value] : row)
+      if (key == "step_seconds") step_ms += 1000 * value / double(rows.size());
+  EXPECT_NEAR(mean_sum, step_ms, 0.05 * step_ms + 0.5);
+  EXPECT_NE(profile.table().find("| backward |"), std::string::npos);
+}
+
+TEST(StepProfile, MediansAndMeansPerStepWithAbsentStagesAsZero) {
+  StepProfile p;
+  for (int step = 0; step < 3; ++step) {
+    p.begin_step();
+    p.add("a", 1.0 + step);
+    if (step == 1) p.add("b", 6.0);
+  }
+  auto rows = p.rows();
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_EQ(rows[0].stage, "a");
+  EXPECT_DOUBLE_EQ(rows[0].median_ms, 2.0);
+  EXPECT_DOUBLE_EQ(rows[1].median_ms, 0.0);  // b ran on one step of three
+  EXPECT_DOUBLE_EQ(rows[1].mean_ms, 2.0);
+  EXPECT_DOUBLE_EQ(p.median_step_ms(), 3.0);  // steps of 1, 8 and 3 ms
 }
 
 // Fine-tuning: run.init_from starts a new run (step 0, fresh optimiser) from another run's

@@ -26,6 +26,7 @@
 #include "pb4u/model/pb4u_net.h"
 #include "pb4u/physics/cloth_geometry.h"
 #include "pb4u/train/distributed.h"
+#include "pb4u/train/step_profile.h"
 #include "pb4u/train/train_config.h"
 
 namespace pb4u {
@@ -86,6 +87,9 @@ class Trainer {
   void run(int64_t stop_at = -1);
   // One optimisation step (exposed for tests).
   StepResult train_step();
+  // Times every following step's stages into `profile` (null: stop). On a GPU each stage
+  // ends with a device synchronisation, which the unprofiled steps do not pay.
+  void set_profile(StepProfile* profile) { profile_ = profile; }
 
   int64_t step() const { return step_; }
   Pb4uNet& model() { return model_; }
@@ -122,6 +126,9 @@ class Trainer {
   std::vector<std::string> term_names_;  // all terms, in Table-1 order: slots of the reduction
   // Replay chains per batch slot (config_.replay.chains each); they restart empty on resume.
   std::vector<std::vector<Trajectory>> chains_;
+  StepProfile* profile_ = nullptr;
+  // Charges the time since the last lap to `stage` when profiling.
+  void lap(const char* stage);
   int64_t step_ = 0;
   int64_t skipped_steps_ = 0;
   double elapsed_seconds_ = 0;
