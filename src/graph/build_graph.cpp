@@ -70,6 +70,8 @@ GraphBatch build_graph(const FrameState& state, const GarmentTopology& topology,
   g.num_garment_nodes = n;
   g.mesh_senders = topology.senders;
   g.mesh_receivers = topology.receivers;
+  g.mesh_sender_rows = topology.sender_rows;
+  g.mesh_receiver_rows = topology.receiver_rows;
   g.mesh_features = mesh_edge_features(x, topology);
   g.vertex_mean_edge_length = topology.vertex_mean_edge_length;
   g.mean_edge_length = topology.mean_edge_length;
@@ -118,6 +120,8 @@ GraphBatch build_graph(const FrameState& state, const GarmentTopology& topology,
   auto garment_node = pairs.select(1, 0).contiguous().to(dev);
   g.world_senders = torch::cat({body_node, garment_node});
   g.world_receivers = torch::cat({garment_node, body_node});
+  g.world_sender_rows = group_rows(g.world_senders, g.num_nodes());
+  g.world_receiver_rows = group_rows(g.world_receivers, g.num_nodes());
   auto p = torch::cat({x, b_now}, 0), q = torch::cat({x + v * state.dt, b_next}, 0);
   g.world_features = world_edge_features(p, q, g.world_senders, g.world_receivers);
   if (options.body_normal_distance) {

@@ -44,6 +44,10 @@ GraphBatch concat_graphs(const std::vector<GraphBatch>& graphs) {
   out.world_senders = torch::cat(ws);
   out.world_receivers = torch::cat(wr);
   out.world_features = torch::cat(wf, 0);
+  out.mesh_sender_rows = group_rows(out.mesh_senders, out.num_garment_nodes);
+  out.mesh_receiver_rows = group_rows(out.mesh_receivers, out.num_garment_nodes);
+  out.world_sender_rows = group_rows(out.world_senders, out.num_nodes());
+  out.world_receiver_rows = group_rows(out.world_receivers, out.num_nodes());
   out.body_vertex_index = torch::cat(body_index);
   out.vertex_mean_edge_length = torch::cat(scale);
   out.mean_edge_length = edge_count > 0 ? length_sum / edge_count : 0;

@@ -51,6 +51,8 @@ GarmentTopology build_garment_topology(const TriMesh& rest, const std::string& w
       len[d] = static_cast<float>(L(e));
     }
   }
+  topo.sender_rows = group_rows(topo.senders, n);
+  topo.receiver_rows = group_rows(topo.receivers, n);
   Eigen::VectorXd area = vertex_masses(rest.V, rest.F, 1.0);
   Eigen::Index worst;
   // Log masses are features: every vertex needs a face of positive area.
@@ -66,6 +68,9 @@ GarmentTopology garment_topology_to(const GarmentTopology& topology, torch::Devi
   for (torch::Tensor* t : {&out.faces, &out.senders, &out.receivers, &out.rest_direction, &out.rest_length,
                            &out.vertex_area, &out.vertex_mean_edge_length})
     if (t->defined()) *t = t->to(device);
+  // Groups serve CPU tensors only; elsewhere torch's kernels sum the rows.
+  out.sender_rows = device.is_cpu() ? topology.sender_rows : RowIndex(out.senders);
+  out.receiver_rows = device.is_cpu() ? topology.receiver_rows : RowIndex(out.receivers);
   return out;
 }
 

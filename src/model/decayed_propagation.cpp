@@ -16,8 +16,8 @@ double DecayedPropagationImpl::matmul_flops(double n, double E, int64_t K) const
 }
 
 torch::Tensor DecayedPropagationImpl::forward(const torch::Tensor& v, const torch::Tensor& e,
-                                              const torch::Tensor& senders,
-                                              const torch::Tensor& receivers, int64_t K) {
+                                              const RowIndex& senders, const RowIndex& receivers,
+                                              int64_t K) {
   if (K <= 0) return v;
   // The edge latents do not change across steps: their first-layer term is computed once.
   torch::Tensor edge_term = split_first_layer ? message->first_layer(2, e, true) : torch::Tensor();

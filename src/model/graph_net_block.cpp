@@ -19,9 +19,8 @@ double GraphNetBlockImpl::matmul_flops(double n, double Em, double Ew) const {
   return flops + node->finish_flops(n);
 }
 
-LatentGraph GraphNetBlockImpl::forward(const LatentGraph& g, const torch::Tensor& ms,
-                                       const torch::Tensor& mr, const torch::Tensor& ws,
-                                       const torch::Tensor& wr) {
+LatentGraph GraphNetBlockImpl::forward(const LatentGraph& g, const RowIndex& ms, const RowIndex& mr,
+                                       const RowIndex& ws, const RowIndex& wr) {
   const int64_t n = g.nodes.size(0);
   LatentGraph out;
   auto dm = edge_mlp(*mesh_edge, g.nodes, g.mesh_edges, ms, mr, {}, split_first_layer);

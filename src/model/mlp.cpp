@@ -64,24 +64,24 @@ torch::Tensor MLPImpl::forward(const std::vector<torch::Tensor>& inputs) {
 }
 
 torch::Tensor edge_mlp(MLPImpl& f, const torch::Tensor& nodes, const torch::Tensor& edges,
-                       const torch::Tensor& senders, const torch::Tensor& receivers,
+                       const RowIndex& senders, const RowIndex& receivers,
                        const torch::Tensor& edge_term, bool split) {
   if (!split) {
-    auto in = torch::cat({nodes.index_select(0, receivers), nodes.index_select(0, senders), edges}, 1);
+    auto in = torch::cat({gather_rows(nodes, receivers), gather_rows(nodes, senders), edges}, 1);
     auto w = torch::cat({f.first_weights[0], f.first_weights[1], f.first_weights[2]}, 1);
     return f.finish(torch::addmm(f.first_bias, in, w.t()));
   }
   // One matmul gives both node terms of every node; each edge then gathers its two.
   const int64_t h = f.first_weights[0].size(0);
   auto terms = torch::mm(nodes, torch::cat({f.first_weights[0], f.first_weights[1]}, 0).t());
-  auto pre = terms.narrow(1, 0, h).index_select(0, receivers);
-  pre.add_(terms.narrow(1, h, h).index_select(0, senders));
+  auto pre = gather_rows(terms.narrow(1, 0, h), receivers);
+  pre.add_(gather_rows(terms.narrow(1, h, h), senders));
   pre.add_(edge_term.defined() ? edge_term : f.first_layer(2, edges, true));
   return f.finish(pre);
 }
 
-torch::Tensor sum_at_receivers(const torch::Tensor& values, const torch::Tensor& receivers, int64_t n) {
-  return torch::zeros({n, values.size(1)}, values.options()).index_add_(0, receivers, values);
+torch::Tensor sum_at_receivers(const torch::Tensor& values, const RowIndex& receivers, int64_t n) {
+  return sum_rows_at(values, receivers, n);
 }
 
 }  // namespace pb4u

@@ -79,13 +79,20 @@ torch::Tensor Pb4uNetImpl::forward(const GraphBatch& g, int64_t K, StageTimes* t
                            ? world_encoder->forward({world_normalizer(g.world_features)})
                            : torch::zeros({0, H}, latent.nodes.options());
   clock.lap(times ? &times->encode : nullptr);
+  // A graph put together by hand may lack the grouped indices: then the bare ones serve.
+  auto rows = [](const RowIndex& grouped, const torch::Tensor& bare) {
+    return grouped.index.defined() ? grouped : RowIndex(bare);
+  };
+  const RowIndex ms = rows(g.mesh_sender_rows, g.mesh_senders), mr = rows(g.mesh_receiver_rows, g.mesh_receivers);
+  const RowIndex ws = rows(g.world_sender_rows, g.world_senders),
+                 wr = rows(g.world_receiver_rows, g.world_receivers);
   if (config.is_pb4u()) {
-    auto h = propagation(latent.nodes, latent.mesh_edges, g.mesh_senders, g.mesh_receivers, K);
+    auto h = propagation(latent.nodes, latent.mesh_edges, ms, mr, K);
     latent.nodes = update->forward({latent.nodes, h});
   }
   clock.lap(times ? &times->propagate : nullptr);
   for (auto& block : blocks)
-    latent = block(latent, g.mesh_senders, g.mesh_receivers, g.world_senders, g.world_receivers);
+    latent = block(latent, ms, mr, ws, wr);
   clock.lap(times ? &times->blocks : nullptr);
   auto a = decoder->forward({latent.nodes.narrow(0, 0, g.num_garment_nodes)});
   auto s = update_scale(g.vertex_mean_edge_length, mean_edge_length_base(), config.update_scaling_on());

@@ -6,6 +6,7 @@
 
 #include <string>
 
+#include "pb4u/graph/row_index.h"
 #include "pb4u/mesh/triangle_mesh.h"
 
 namespace pb4u {
@@ -13,6 +14,7 @@ namespace pb4u {
 struct GarmentTopology {
   torch::Tensor faces;                    // (m, 3) int64
   torch::Tensor senders, receivers;       // (2E) int64: each unique edge in both directions
+  RowIndex sender_rows, receiver_rows;    // the same, grouped by vertex (on the CPU)
   torch::Tensor rest_direction;           // (2E, 3) float, unit (X_receiver - X_sender)
   torch::Tensor rest_length;              // (2E) float, m
   torch::Tensor vertex_area;              // (n) float, m^2: each face gives area / 3

@@ -4,6 +4,8 @@
 // that world edges touch. Mesh-edge index tensors are the cached topology's, shared, not copied.
 #include <torch/torch.h>
 
+#include "pb4u/graph/row_index.h"
+
 namespace pb4u {
 
 // Feature widths (layout in docs/model.md and graph/features.h).
@@ -21,6 +23,9 @@ struct GraphBatch {
   torch::Tensor mesh_features;                   // (Em, 7) float
   torch::Tensor world_senders, world_receivers;  // (Ew) int64, Ew may be 0
   torch::Tensor world_features;                  // (Ew, 8 or 10) float
+  // The four indices above grouped by node (row_index.h), for the network's gathers and sums;
+  // bare ones (torch's kernels) where a graph was put together without them.
+  RowIndex mesh_sender_rows, mesh_receiver_rows, world_sender_rows, world_receiver_rows;
   torch::Tensor body_vertex_index;               // (nodes - n) int64: body vertex of each body node
   torch::Tensor vertex_mean_edge_length;         // (n) float, m: numerator of the update scaling
   double mean_edge_length = 0;                   // m: the garment's Lbar, which sets K

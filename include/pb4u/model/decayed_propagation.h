@@ -14,8 +14,8 @@ struct DecayedPropagationImpl : torch::nn::Module {
 
   // v (n, H) node latents, e (E, H) edge latents over (senders, receivers) -> h^K (n, H).
   // K = 0 returns v.
-  torch::Tensor forward(const torch::Tensor& v, const torch::Tensor& e, const torch::Tensor& senders,
-                        const torch::Tensor& receivers, int64_t K);
+  torch::Tensor forward(const torch::Tensor& v, const torch::Tensor& e, const RowIndex& senders,
+                        const RowIndex& receivers, int64_t K);
 
   // Matmul FLOPs of forward() on n nodes and E edges.
   double matmul_flops(double n, double E, int64_t K) const;

@@ -17,9 +17,9 @@ struct LatentGraph {
 struct GraphNetBlockImpl : torch::nn::Module {
   GraphNetBlockImpl(int64_t latent, int hidden_layers);
 
-  LatentGraph forward(const LatentGraph& g, const torch::Tensor& mesh_senders,
-                      const torch::Tensor& mesh_receivers, const torch::Tensor& world_senders,
-                      const torch::Tensor& world_receivers);
+  LatentGraph forward(const LatentGraph& g, const RowIndex& mesh_senders,
+                      const RowIndex& mesh_receivers, const RowIndex& world_senders,
+                      const RowIndex& world_receivers);
 
   // Matmul FLOPs of forward() on n nodes, Em mesh and Ew world edges.
   double matmul_flops(double n, double Em, double Ew) const;

@@ -8,6 +8,8 @@
 
 #include <vector>
 
+#include "pb4u/graph/row_index.h"
+
 namespace pb4u {
 
 struct MLPImpl : torch::nn::Module {
@@ -38,12 +40,12 @@ struct MLPImpl : torch::nn::Module {
 TORCH_MODULE(MLP);
 
 // f(x_receiver, x_sender, e) for every edge, with f an MLP of parts {node, node, edge}.
-// nodes (n, d), senders / receivers (E) int64, edges (E, de). `edge_term`, if defined, is
+// nodes (n, d), senders / receivers (E) indices (grouped or bare, row_index.h), edges (E, de). `edge_term`, if defined, is
 // f->first_layer(2, edges, true) computed by the caller (propagation reuses it over K steps).
 // split = false concatenates the gathered inputs and multiplies once per edge (the slower
 // textbook form, kept for the benchmark and as a reference in tests).
 torch::Tensor edge_mlp(MLPImpl& f, const torch::Tensor& nodes, const torch::Tensor& edges,
-                       const torch::Tensor& senders, const torch::Tensor& receivers,
+                       const RowIndex& senders, const RowIndex& receivers,
                        const torch::Tensor& edge_term = {}, bool split = true);
 
 // Matmul FLOPs of edge_mlp (split form) over `nodes` nodes and `edges` edges; the edge part's
@@ -51,6 +53,6 @@ torch::Tensor edge_mlp(MLPImpl& f, const torch::Tensor& nodes, const torch::Tens
 double edge_mlp_flops(const MLPImpl& f, double nodes, double edges, bool with_edge_term);
 
 // (n, d): sum of the edge values (E, d) at their receivers.
-torch::Tensor sum_at_receivers(const torch::Tensor& values, const torch::Tensor& receivers, int64_t n);
+torch::Tensor sum_at_receivers(const torch::Tensor& values, const RowIndex& receivers, int64_t n);
 
 }  // namespace pb4u
