@@ -46,6 +46,8 @@ std::string better_core_type(const std::string& detected) {
 
 // OMP_WAIT_POLICY set when the user has none (see ensure_fast_runtime).
 constexpr const char* kDefaultOmpWaitPolicy = "PASSIVE";
+// libgomp's spin before a passive thread sleeps (GOMP_SPINCOUNT overrides the policy's 0).
+constexpr const char* kDefaultSpinCount = "1000";
 // Blocks below this size come from (and return to) the heap, not mmap (see tune_allocator).
 constexpr int kMallocKeepBytes = 1 << 30;
 bool allocator_tuned = false;
@@ -74,9 +76,12 @@ void ensure_fast_runtime(int argc, char** argv) {
   // libgomp spins idle threads for ~300K iterations between parallel regions. The network runs
   // hundreds of small regions per frame, and whenever another process wants a core the
   // spinners steal it: measured 200x slower frames on a loaded 2-core machine
-  // (docs/performance.md). Passive threads sleep at once.
+  // (docs/performance.md). Passive threads sleep, but only after a short spin: waking a
+  // sleeping thread for every small region made a 2-thread training step 1.7x slower than
+  // spinning 1000 iterations first, which costs 1.5x where another process takes a core.
   if (!std::getenv("OMP_WAIT_POLICY")) {
     ::setenv("OMP_WAIT_POLICY", kDefaultOmpWaitPolicy, 1);
+    if (!std::getenv("GOMP_SPINCOUNT")) ::setenv("GOMP_SPINCOUNT", kDefaultSpinCount, 1);
     changed = true;
   }
   if (!changed) return;
@@ -102,8 +107,9 @@ int configure_threads(int requested) {
 
 void log_runtime_info() {
   const char* wait = std::getenv("OMP_WAIT_POLICY");
-  spdlog::info("runtime: BLAS core {}, {} torch threads (OpenMP wait policy {}), malloc {}, libtorch {}",
-               blas_core_name(), torch::get_num_threads(), wait ? wait : "default",
+  const char* spin = std::getenv("GOMP_SPINCOUNT");
+  spdlog::info("runtime: BLAS core {}, {} torch threads (OpenMP wait policy {}, spin {}), malloc {}, libtorch {}",
+               blas_core_name(), torch::get_num_threads(), wait ? wait : "default", spin ? spin : "default",
                allocator_tuned ? "tuned" : "default", TORCH_VERSION);
   const std::string resources = resource_dir();
   spdlog::debug("resources (scripts, configs, data): {}",
