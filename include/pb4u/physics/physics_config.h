@@ -16,10 +16,15 @@ struct CollisionConfig {
   int hold_steps = 0;         // training steps at weight_start before the ramp begins
   int ramp_steps = 50000;     // training steps over which the weight then ramps start -> end
   std::string ramp = "exponential";  // exponential (geometric) | linear | constant (= end)
+  // What d is measured against: plane (SPEC 3.3: the plane of the face with the nearest centroid
+  // at t) | surface (the body's own inside and its outer surface at t + dt, which a vertex deep
+  // in a limb cannot escape: physics/surface_contact.h)
+  std::string measure = "plane";
 
   template <class V>
   void visit(V& v) {
     v("eps", eps, positive());
+    v("measure", measure, one_of({"plane", "surface"}));
     v("weight_start", weight_start, positive());
     v("weight_end", weight_end, positive());
     v("hold_steps", hold_steps, int_at_least(0));
