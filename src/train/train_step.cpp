@@ -16,6 +16,7 @@
 #include "pb4u/physics/body_queries.h"
 #include "pb4u/physics/energy_report.h"
 #include "pb4u/physics/physics_term.h"
+#include "pb4u/physics/step_constraints.h"
 #include "pb4u/scene/pins.h"
 #include "pb4u/train/trainer.h"
 #include "pb4u/util/eigen_tensor.h"
@@ -193,8 +194,14 @@ Trainer::SampleResult Trainer::train_sample(std::mt19937_64& rng, int slot, int 
     loss_sum = loss_sum + step_loss.detach();
     step_loss.backward();  // gradients accumulate; the next step starts from a detached state
     lap("backward");
+    torch::Tensor x_carried = x_next.detach();
+    if (replay.constrains()) {
+      x_carried = constrain_step(x_carried, state, contact ? &*contact : nullptr, topology_[vi],
+                                 replay.strain_limit, replay.contact_projection);
+      lap("replay: constrain the state carried on");
+    }
     state.x_prev = state.x;
-    state.x = x_next.detach();
+    state.x = x_carried;
     if (i + 1 < r) {
       body_now = body_next;
       body_next = pose(tr.frame + i + 2);

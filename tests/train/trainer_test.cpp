@@ -11,6 +11,7 @@
 #include <set>
 #include <thread>
 
+#include "pb4u/graph/garment_topology.h"
 #include "pb4u/model/model_file.h"
 #include "pb4u/model/checkpoint.h"
 #include "pb4u/train/metrics_log.h"
@@ -171,6 +172,39 @@ TEST(Trainer, ProfiledStepsTimeTheirStagesAndTrainTheSame) {
       if (key == "step_seconds") step_ms += 1000 * value / double(rows.size());
   EXPECT_NEAR(mean_sum, step_ms, 0.05 * step_ms + 0.5);
   EXPECT_NE(profile.table().find("| backward |"), std::string::npos);
+}
+
+// replay.strain_limit / replay.contact_projection: the states the chains carry on are
+// constrained as inference constrains a step; without them the tiny model's chains stretch.
+TEST(Trainer, ReplayCarriesConstrainedStates) {
+  configure_threads(1);
+  auto largest_strain = [](Trainer& t, const TrainingData& data) {
+    double worst = 0;
+    int active = 0;
+    for (const auto& slot : t.replay_chains())
+      for (const Trajectory& tr : slot) {
+        if (!tr.active()) continue;
+        ++active;
+        const GarmentTopology topo = build_garment_topology(data.garments[tr.garment].mesh);
+        auto d = (tr.x.index_select(0, topo.receivers) - tr.x.index_select(0, topo.senders)).norm(2, 1);
+        worst = std::max(worst, (d / topo.rest_length - 1).max().item<double>());
+      }
+    EXPECT_GT(active, 0);
+    return worst;
+  };
+  const std::vector<std::string> sets = {"run.steps=30", "replay.chains=2", "replay.p_fresh=0.05"};
+  TrainConfig plain_cfg = tiny_config(test::temp_dir("replay_plain"), sets);
+  Trainer plain = make_trainer(plain_cfg);
+  plain.run();
+  const TrainingData data = load_training_data(plain_cfg.data);
+  EXPECT_GT(largest_strain(plain, data), 0.2);  // else this test shows nothing
+
+  auto constrained_sets = sets;
+  constrained_sets.insert(constrained_sets.end(), {"replay.strain_limit=0.1", "replay.contact_projection=0.002"});
+  Trainer constrained = make_trainer(tiny_config(test::temp_dir("replay_constrained"), constrained_sets));
+  constrained.run();
+  // Limit then project, up to 10 rounds, ending within 1.1x the limit (step_constraints.h).
+  EXPECT_LE(largest_strain(constrained, data), 0.11 + 1e-4);
 }
 
 TEST(StepProfile, MediansAndMeansPerStepWithAbsentStagesAsZero) {

@@ -106,13 +106,22 @@ struct ReplayConfig {
   int chains = 0;
   double p_fresh = 0.2;
   double restart_energy = 20.0;  // J: stretch + bending + collision of the last step
+  // The states a rollout carries on (to its next step and back into its chain) made sound as
+  // inference makes them: edges limited to (1 + strain_limit) x rest, vertices pushed out of
+  // the body to contact_projection m (physics/step_constraints.h); 0 = off. The loss is still
+  // the raw prediction's: the network is trained from sound states, not through the passes.
+  double strain_limit = 0;
+  double contact_projection = 0;
 
   template <class V>
   void visit(V& v) {
     v("chains", chains, int_at_least(0));
     v("p_fresh", p_fresh, in_range(0, 1));
     v("restart_energy", restart_energy, positive());
+    v("strain_limit", strain_limit, in_range(0, 10));
+    v("contact_projection", contact_projection, in_range(0, 1));
   }
+  bool constrains() const { return strain_limit > 0 || contact_projection > 0; }
 };
 
 struct TrainConfig {

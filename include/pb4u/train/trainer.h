@@ -92,6 +92,8 @@ class Trainer {
   void set_profile(StepProfile* profile) { profile_ = profile; }
 
   int64_t step() const { return step_; }
+  // The replay chains of each batch slot (inactive ones included), for tests.
+  const std::vector<std::vector<Trajectory>>& replay_chains() const { return chains_; }
   Pb4uNet& model() { return model_; }
   const std::string& run_dir() const { return config_.run.out; }
 
