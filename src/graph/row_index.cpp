@@ -17,8 +17,10 @@ using torch::autograd::variable_list;
 // The grouped sum: out[i] = sum over row i's entries e, in increasing e, of values[e].
 // values (E, C) contiguous on the CPU; out (rows_out, C) with rows_out >= ix.rows().
 torch::Tensor grouped_sum(const torch::Tensor& values, const RowIndex& ix, int64_t rows_out) {
-  const auto flat = values.contiguous().reshape({values.size(0), -1});
-  const int64_t C = flat.size(1), rows = ix.rows();
+  int64_t C = 1;  // values per row, whatever the row's shape (and with no rows at all)
+  for (int64_t d = 1; d < values.dim(); ++d) C *= values.size(d);
+  const auto flat = values.contiguous().view({values.size(0), C});
+  const int64_t rows = ix.rows();
   torch::Tensor out = torch::zeros({rows_out, C}, flat.options());
   const int64_t* order = ix.order.data_ptr<int64_t>();
   const int64_t* offsets = ix.offsets.data_ptr<int64_t>();

@@ -58,6 +58,18 @@ TEST(RowIndex, GatherAndSumGiveTorchsBitsForwardAndBackward) {
   torch::set_num_threads(1);
 }
 
+TEST(RowIndex, NoEntriesAndRowsOfAnyShape) {
+  RowIndex none = group_rows(torch::zeros({0}, torch::kInt64), 4);
+  auto sum = sum_rows_at(torch::zeros({0, 2, 3}), none, 4);
+  EXPECT_EQ(sum.sizes(), (std::vector<int64_t>{4, 2, 3}));
+  EXPECT_EQ(sum.abs().sum().item<double>(), 0.0);
+  EXPECT_EQ(gather_rows(torch::ones({4, 2}), none).size(0), 0);
+  auto index = torch::tensor({1, 1, 3}, torch::kInt64);
+  auto values = torch::arange(12, torch::kFloat32).view({3, 2, 2});
+  EXPECT_TRUE(torch::equal(sum_rows_at(values, group_rows(index, 4), 4),
+                           torch::zeros({4, 2, 2}).index_add_(0, index, values)));
+}
+
 TEST(RowIndex, FewerRowsThanTheGroupsFallBackToTorchsChecks) {
   auto index = torch::tensor({0, 4}, torch::kInt64);
   RowIndex grouped = group_rows(index, 5);
