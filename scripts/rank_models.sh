@@ -19,25 +19,27 @@
 # marked and ranks last. The score is the geometric mean of the five positive energies (the one
 # step's stretch + collision standing for its own); lower is better.
 #
-# Usage: scripts/rank_models.sh [--out DIR] [--last N] [--threads N] [--reference] [--quick] RUN [RUN ...]
+# Usage: scripts/rank_models.sh [--out DIR] [--last N] [--threads N] [--jobs N] [--reference] [--quick] RUN [RUN ...]
 #   RUN          NAME=PATH[,PATH...] or PATH. PATH is a run directory (its newest N checkpoints
 #                checkpoints/step_*.pt) or a model file (.pt or .h5); a run with several paths is
 #                one run of several checkpoints (or seeds)
 #   --out DIR    where exported files, per-probe results and rank.md go (default runs/rank)
 #   --last N     checkpoints taken from a run directory (default 3)
 #   --threads N  torch threads (default 1)
+#   --jobs N     model files probed at once (default 1; 2 on two idle cores halves the time)
 #   --reference  also the reference solver (penalty contact) on the one step, walk, hang and
 #                unseen level 1 (minutes; kept in DIR/reference and reused), and each probe's
 #                ratio to it
 #   --quick      a smoke test: 3 frames per rollout, levels 1 and 2 (seconds, not minutes)
 set -euo pipefail
 cd "$(dirname "$0")/.."
-out=runs/rank last=3 threads=1 reference=0 quick=0 runs=()
+out=runs/rank last=3 threads=1 jobs=1 reference=0 quick=0 runs=()
 while [ $# -gt 0 ]; do
   case "$1" in
     --out) out=$2; shift ;;
     --last) last=$2; shift ;;
     --threads) threads=$2; shift ;;
+    --jobs) jobs=$2; shift ;;
     --reference) reference=1 ;;
     --quick) quick=1 ;;
     -h|--help) awk 'NR > 1 && !/^#/ { exit } NR > 1 { sub(/^# ?/, ""); print }' "$0"; exit 0 ;;
@@ -110,6 +112,18 @@ probe() {
   fi
 }
 
+# Up to --jobs probe sets at once; a failed one fails the script once all have ended.
+pids=() failed=0
+in_background() {
+  "$@" &
+  pids+=($!)
+  while [ "$(jobs -rp | wc -l)" -ge "$jobs" ]; do wait -n || failed=1; done
+}
+wait_all() {
+  for pid in "${pids[@]}"; do wait "$pid" || failed=1; done
+  [ $failed = 0 ] || { echo "rank_models.sh: a probe failed (its log is in its member's directory)" >&2; exit 1; }
+}
+
 args=()
 start=$(date +%s)
 for spec in "${runs[@]}"; do
@@ -129,16 +143,17 @@ for spec in "${runs[@]}"; do
       --set strain_limit=0.1 --set refine_iterations=0 --out "$member/passes.h5"
     for variant in alone passes; do
       echo "rank_models.sh: $name #$i ($f), $variant ($(( $(date +%s) - start )) s so far)" >&2
-      probe "$member/$variant.h5" "$member/$variant"
+      in_background probe "$member/$variant.h5" "$member/$variant"
       args+=("$name:$i:$variant:$member/$variant")
     done
   done <<<"$files"
 done
 if [ $reference = 1 ]; then
   echo "rank_models.sh: the reference solver ($(( $(date +%s) - start )) s so far)" >&2
-  probe reference "$out/reference"
+  in_background probe reference "$out/reference"
   args+=(--reference "$out/reference")
 fi
+wait_all
 python3 scripts/rank_table.py "${args[@]}" --json "$out/rank.json" >"$out/rank.md"
 cat "$out/rank.md"
 echo "rank_models.sh: $(( $(date +%s) - start )) s; table in $out/rank.md" >&2
