@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Before/after of each runtime setting pb4u applies at start-up (docs/performance.md):
-# OpenMP wait policy, allocator tuning and thread count, on configs/bench/runtime.yaml.
+# OpenMP wait policy and spin, allocator tuning and thread count, on configs/bench/runtime.yaml.
 # Usage: scripts/bench_runtime.sh [OUT_DIR=runs/bench/runtime]. Needs the quick dataset.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -16,6 +16,7 @@ run() {  # NAME THREADS ENV...
 echo "| setting | threads | level | triangles | method | median ms/frame |"
 echo "|---|---|---|---|---|---|"
 run default-2threads 2
+run passive-nospin-2threads 2 GOMP_SPINCOUNT=0
 run omp-active-2threads 2 OMP_WAIT_POLICY=ACTIVE
 run glibc-malloc-2threads 2 PB4U_DEFAULT_MALLOC=1
 run default-1thread 1
