@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "pb4u/graph/row_index.h"
 #include "pb4u/util/error.h"
 
 namespace pb4u {
@@ -11,8 +12,11 @@ torch::Tensor vertex_normals(const torch::Tensor& x, const torch::Tensor& faces)
        c = x.index_select(0, faces.select(1, 2));
   // Unnormalised face normals weigh each face by twice its area.
   auto fn = torch::cross(b - a, c - a, 1);
-  auto n = torch::zeros_like(x);
-  for (int k = 0; k < 3; ++k) n.index_add_(0, faces.select(1, k), fn);
+  // Each vertex sums its faces' normals corner by corner (all first corners in face order, then
+  // the second, then the third), grouped by vertex (row_index.h): the order, and so the bits,
+  // of three index_add_ calls, without their row-at-a-time cost.
+  const auto corners = torch::cat({faces.select(1, 0), faces.select(1, 1), faces.select(1, 2)});
+  auto n = sum_rows_at(torch::cat({fn, fn, fn}), group_rows(corners, x.size(0)), x.size(0));
   auto norm = n.norm(2, 1, true);
   return torch::where(norm > 0, n / norm.clamp_min(1e-30), torch::zeros_like(n));
 }
