@@ -63,7 +63,7 @@ GraphBatch build_graph(const FrameState& state, const GarmentTopology& topology,
     type = torch::where(pinned.to(dev), one_hot_rows(n, 2, dev), type);
   }
   auto log_mass = torch::log(topology.vertex_area * state.material.density).unsqueeze(1);
-  auto garment = torch::cat({v, vertex_normals(x, topology.faces), type, log_mass,
+  auto garment = torch::cat({v, vertex_normals(x, topology.faces, topology.corner_rows), type, log_mass,
                              scene.expand({n, scene.size(0)})}, 1);
 
   GraphBatch g;
@@ -111,7 +111,10 @@ GraphBatch build_graph(const FrameState& state, const GarmentTopology& topology,
   auto bx = body.vertices.to(torch::kFloat32), bx_next = body.next_vertices.to(torch::kFloat32);
   auto b_now = bx.index_select(0, used_t), b_next = bx_next.index_select(0, used_t);
   const int64_t nu = used_t.size(0);
-  auto body_normals = vertex_normals(bx, body.faces.to(torch::kInt64)).index_select(0, used_t);
+  // The body's faces are the same at both poses: their corners are grouped once.
+  const torch::Tensor body_faces = body.faces.to(torch::kInt64);
+  const RowIndex body_corners = face_corner_rows(body_faces, nb);
+  auto body_normals = vertex_normals(bx, body_faces, body_corners).index_select(0, used_t);
   auto body_nodes = torch::cat({(b_next - b_now) / state.dt, body_normals, one_hot_rows(nu, 1, dev),
                                 torch::zeros({nu, 1}, x.options()), scene.expand({nu, scene.size(0)})}, 1);
   g.node_features = torch::cat({garment, body_nodes}, 0);
@@ -127,7 +130,7 @@ GraphBatch build_graph(const FrameState& state, const GarmentTopology& topology,
   if (options.body_normal_distance) {
     // One value per pair, the same on both directed edges.
     auto slot = body_node - n;  // the pair's body vertex among used_t
-    auto next_normals = vertex_normals(bx_next, body.faces.to(torch::kInt64)).index_select(0, used_t);
+    auto next_normals = vertex_normals(bx_next, body_faces, body_corners).index_select(0, used_t);
     auto d = body_normal_distances(x.index_select(0, garment_node), q.index_select(0, garment_node),
                                    b_now.index_select(0, slot), b_next.index_select(0, slot),
                                    body_normals.index_select(0, slot), next_normals.index_select(0, slot));

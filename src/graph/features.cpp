@@ -7,7 +7,11 @@
 
 namespace pb4u {
 
-torch::Tensor vertex_normals(const torch::Tensor& x, const torch::Tensor& faces) {
+RowIndex face_corner_rows(const torch::Tensor& faces, int64_t vertices) {
+  return group_rows(torch::cat({faces.select(1, 0), faces.select(1, 1), faces.select(1, 2)}), vertices);
+}
+
+torch::Tensor vertex_normals(const torch::Tensor& x, const torch::Tensor& faces, const RowIndex& corners) {
   auto a = x.index_select(0, faces.select(1, 0)), b = x.index_select(0, faces.select(1, 1)),
        c = x.index_select(0, faces.select(1, 2));
   // Unnormalised face normals weigh each face by twice its area.
@@ -15,8 +19,8 @@ torch::Tensor vertex_normals(const torch::Tensor& x, const torch::Tensor& faces)
   // Each vertex sums its faces' normals corner by corner (all first corners in face order, then
   // the second, then the third), grouped by vertex (row_index.h): the order, and so the bits,
   // of three index_add_ calls, without their row-at-a-time cost.
-  const auto corners = torch::cat({faces.select(1, 0), faces.select(1, 1), faces.select(1, 2)});
-  auto n = sum_rows_at(torch::cat({fn, fn, fn}), group_rows(corners, x.size(0)), x.size(0));
+  const RowIndex grouped = corners.index.defined() ? corners : face_corner_rows(faces, x.size(0));
+  auto n = sum_rows_at(torch::cat({fn, fn, fn}), grouped, x.size(0));
   auto norm = n.norm(2, 1, true);
   return torch::where(norm > 0, n / norm.clamp_min(1e-30), torch::zeros_like(n));
 }

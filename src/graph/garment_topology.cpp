@@ -1,5 +1,6 @@
 #include "pb4u/graph/garment_topology.h"
 
+#include "pb4u/graph/features.h"
 #include "pb4u/mesh/edges.h"
 #include "pb4u/mesh/geometry.h"
 #include "pb4u/util/error.h"
@@ -51,6 +52,7 @@ GarmentTopology build_garment_topology(const TriMesh& rest, const std::string& w
       len[d] = static_cast<float>(L(e));
     }
   }
+  topo.corner_rows = face_corner_rows(topo.faces, n);
   topo.sender_rows = group_rows(topo.senders, n);
   topo.receiver_rows = group_rows(topo.receivers, n);
   Eigen::VectorXd area = vertex_masses(rest.V, rest.F, 1.0);
@@ -71,6 +73,7 @@ GarmentTopology garment_topology_to(const GarmentTopology& topology, torch::Devi
   // Groups serve CPU tensors only; elsewhere torch's kernels sum the rows.
   out.sender_rows = device.is_cpu() ? topology.sender_rows : RowIndex(out.senders);
   out.receiver_rows = device.is_cpu() ? topology.receiver_rows : RowIndex(out.receivers);
+  out.corner_rows = device.is_cpu() ? topology.corner_rows : RowIndex();
   return out;
 }
 

@@ -7,13 +7,19 @@
 #include <string>
 
 #include "pb4u/graph/garment_topology.h"
+#include "pb4u/graph/row_index.h"
 #include "pb4u/scene/material.h"
 
 namespace pb4u {
 
+// The face corners of faces (m, 3) int64 over `vertices` vertices grouped by vertex, first
+// corners in face order, then second, then third (row_index.h): what vertex_normals sums.
+RowIndex face_corner_rows(const torch::Tensor& faces, int64_t vertices);
+
 // (n, 3) unit area-weighted vertex normals of positions x (n, 3) with faces (m, 3) int64;
-// zero for isolated or fully degenerate vertices.
-torch::Tensor vertex_normals(const torch::Tensor& x, const torch::Tensor& faces);
+// zero for isolated or fully degenerate vertices. `corners`: face_corner_rows(faces, n) when
+// the caller keeps it (a garment's topology, a body posed twice), else built here.
+torch::Tensor vertex_normals(const torch::Tensor& x, const torch::Tensor& faces, const RowIndex& corners = {});
 
 // Material as 4 numbers in [0, 1] over `ranges`: density and lambda linear, mu and bending on
 // a log scale. Values outside a range extrapolate linearly. Throws pb4u::Error naming

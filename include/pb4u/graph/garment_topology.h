@@ -15,6 +15,7 @@ struct GarmentTopology {
   torch::Tensor faces;                    // (m, 3) int64
   torch::Tensor senders, receivers;       // (2E) int64: each unique edge in both directions
   RowIndex sender_rows, receiver_rows;    // the same, grouped by vertex (on the CPU)
+  RowIndex corner_rows;                   // the faces' corners grouped by vertex (vertex normals)
   torch::Tensor rest_direction;           // (2E, 3) float, unit (X_receiver - X_sender)
   torch::Tensor rest_length;              // (2E) float, m
   torch::Tensor vertex_area;              // (n) float, m^2: each face gives area / 3
