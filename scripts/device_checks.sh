@@ -7,22 +7,30 @@
 #      training steps only: timing does not depend on the weights) on the t-shirt remeshed to
 #      ~12K, 25K and 48K triangles on the quick dataset's walking CMU body, `simulate --device cuda`.
 #      The network step per frame is the step-time sum over frames 11-40 (from the summaries of a
-#      10- and a 40-frame run) over 30, so CUDA's warm-up and the CPU's per-frame energies are out.
+#      10- and a 40-frame run) over 30, so CUDA's warm-up and the CPU's per-frame energies are out;
+#   4. with --capacity-steps N: quick.yaml's recipe from scratch at three model sizes (latent x
+#      blocks: quick 64 x 4, mid 96 x 8, paper 128 x 15), N steps each, the three at once on the
+#      device while the rest of the suite runs on the CPU; their last three checkpoints are
+#      exported (model files) into DIR/capacity_*.tgz (the paper size's newest two beside them, 16 MB
+#      each) for scripts/rank_models.sh.
 #
 #   scripts/device_checks.sh [--out DIR] [--budget SECONDS] [--jobs N] [--skip-build]
 #                            [--device D] [--triangles "N ..."] [--train-steps "QUICK PAPER"]
+#                            [--capacity-steps N]
 #
 #   --budget SECONDS  phases that would start with too little of it left are skipped (default 540)
 #   --skip-build      use an existing build-cuda/ (PB4U=path overrides the binary)
 #   --device D        where training and the network run (default cuda; cpu checks the script)
 #   --triangles       Table 3's garment sizes (default "12000 25000 48000")
-#   --train-steps     training steps timed (default "300 100")
+#   --train-steps     training steps timed (default "300 100"); each config is also profiled
+#                     (`train --profile`) over a third of them
+#   --capacity-steps  steps of each capacity run (default 0: none)
 # Needs device_bundle/debs (scripts/device_bundle.sh) and data/generated/quick/quick.h5 carried
 # along. Results: DIR/device_checks.txt and DIR/logs/ (configure, build, ctest logs).
 set -uo pipefail
 cd "$(dirname "$0")/.."
 root=$PWD
-out=${OUT:-runs/device} budget=540 jobs=$(nproc) build_step=1 device=cuda triangles="12000 25000 48000" steps="300 100"
+out=${OUT:-runs/device} budget=540 jobs=$(nproc) build_step=1 device=cuda triangles="12000 25000 48000" steps="300 100" capacity_steps=0
 while [ $# -gt 0 ]; do
   case "$1" in
     --out) out=$2; shift ;;
@@ -32,6 +40,7 @@ while [ $# -gt 0 ]; do
     --device) device=$2; shift ;;
     --triangles) triangles=$2; shift ;;
     --train-steps) steps=$2; shift ;;
+    --capacity-steps) capacity_steps=$2; shift ;;
     -h|--help) awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next } NR > 1 { exit }' "$0"; exit 0 ;;
     *) echo "device_checks: unknown argument '$1' (see --help)" >&2; exit 2 ;;
   esac
@@ -89,6 +98,15 @@ if [ "$(left)" -gt 120 ]; then
   read -r quick_steps paper_steps <<<"$steps"
   train quick configs/train/quick.yaml "$quick_steps"
   train paper configs/train/paper.yaml "$paper_steps"
+  for config in quick paper; do  # where a step's time goes, on this device
+    [ "$config" = quick ] && n=$((quick_steps / 3)) || n=$((paper_steps / 3))
+    rm -rf "/tmp/device_profile_$config"
+    "$pb4u" -q train --profile --config "configs/train/$config.yaml" --out "/tmp/device_profile_$config" \
+      --set run.device="$device" --set run.steps="$n" --set data.dataset="$dataset" --set run.checkpoint_every="$n" \
+      >"/tmp/device_profile_$config.log" 2>&1 || say "train --profile $config failed"
+    say "profile $config, $n steps:"
+    sed -n '/Training step profile/,$p' "/tmp/device_profile_$config.log" | tee -a "$report"
+  done
 else
   say "skipped training: $(left) s left"
 fi
@@ -139,10 +157,51 @@ EOF
 else
   say "skipped Table 3: no paper-size model ($model)"
 fi
-# 4. The whole suite but the cuda label, in what is left.
+# 4. Capacity runs on the device (started here, collected after the suite).
+capacity_sizes=("quick 64 4" "mid 96 8" "paper 128 15")
+if [ "$capacity_steps" -gt 0 ]; then
+  for size in "${capacity_sizes[@]}"; do
+    read -r name latent blocks <<<"$size"
+    rm -rf "/tmp/capacity_$name" "/tmp/capacity_$name.done"
+    ( t0=$(now)
+      "$pb4u" -q --threads 2 train --config configs/train/quick.yaml --out "/tmp/capacity_$name" \
+        --set run.device="$device" --set run.steps="$capacity_steps" --set data.dataset="$dataset" \
+        --set run.checkpoint_every=$((capacity_steps / 4)) --set run.keep_checkpoints=3 \
+        --set model.latent="$latent" --set model.num_blocks="$blocks" >"/tmp/capacity_$name.log" 2>&1
+      echo "$? $(awk -v a="$t0" -v b="$(now)" 'BEGIN { printf "%.1f", b - a }')" >"/tmp/capacity_$name.done" ) &
+  done
+  say "capacity: quick.yaml's recipe, $capacity_steps steps each, sizes ${capacity_sizes[*]}, three at once on $device"
+fi
+
+# 5. The whole suite but the cuda label, in what is left.
 if [ -d "$root/build-cuda" ] && [ "$(left)" -gt 30 ]; then
-  ctest_run all $(($(left) - 10)) -LE cuda
+  [ "$capacity_steps" -gt 0 ] && suite_jobs=$((jobs > 12 ? jobs - 6 : jobs)) || suite_jobs=$jobs
+  jobs=$suite_jobs; ctest_run all $(($(left) - 40)) -LE cuda
 else
   say "skipped the whole suite: $(left) s left"
+fi
+
+# The capacity runs: wait while time is left, then export what each run reached.
+if [ "$capacity_steps" -gt 0 ]; then
+  while [ "$(left)" -gt 25 ] && [ "$(ls /tmp/capacity_*.done 2>/dev/null | wc -l)" -lt 3 ]; do sleep 2; done
+  pkill -f "/tmp/capacity_" 2>/dev/null
+  for size in "${capacity_sizes[@]}"; do
+    read -r name latent blocks <<<"$size"
+    dir=/tmp/capacity_$name
+    read -r rc seconds 2>/dev/null <"$dir.done" || { rc=killed; seconds=$SECONDS; }
+    reached=$(grep -c '"step"' "$dir/metrics.jsonl" 2>/dev/null)
+    say "capacity $name ($latent x $blocks): exit $rc, ${reached:-0} steps in $seconds s"
+    mkdir -p "$dir/export"
+    for ckpt in "$dir"/checkpoints/step_*.pt; do
+      [ -f "$ckpt" ] && "$pb4u" -q export --checkpoint "$ckpt" --out "$dir/export/${name}_$(basename "$ckpt" .pt).h5" >/dev/null 2>&1
+    done
+    tail -n 3 "$dir.log" >"$dir/export/train_tail.log" 2>/dev/null
+    cp "$dir/metrics.jsonl" "$dir/config.yaml" "$dir/export/" 2>/dev/null
+    if [ "$name" = paper ]; then  # 16 MB a model file: the newest two, one file each, beside the rest
+      ls "$dir"/export/*.h5 2>/dev/null | head -n -2 | xargs -r rm -f
+      for f in "$dir"/export/*.h5; do [ -f "$f" ] && mv "$f" "$out/capacity_$(basename "$f")"; done
+    fi
+    tar -C "$dir/export" -czf "$out/capacity_$name.tgz" .
+  done
 fi
 say "done in $SECONDS s"
