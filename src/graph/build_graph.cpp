@@ -80,6 +80,14 @@ GraphBatch build_graph(const FrameState& state, const GarmentTopology& topology,
   g.world_features = torch::empty({0, options.world_edge_feature_dim()}, torch::TensorOptions().device(dev));
   g.body_vertex_index = torch::empty({0}, index_options);
   g.node_features = garment;
+  for (int level = 0; level < options.coarse_levels; ++level) {
+    if (level >= static_cast<int>(topology.coarse.size()))
+      throw Error("graph: the garment's topology has " + std::to_string(topology.coarse.size()) +
+                  " coarse levels, the model asks for " + std::to_string(options.coarse_levels));
+    const GarmentEdgeSet& set = topology.coarse[static_cast<size_t>(level)];
+    g.coarse.push_back({set.senders, set.receivers, edge_set_features(x, set), set.sender_rows, set.receiver_rows});
+  }
+  if (options.coarse_levels > 0) g.vertex_level = topology.vertex_level;
   if (!state.effects.needs_body() || !state.body.defined()) return g;
 
   const BodyFrame& body = state.body;
@@ -119,6 +127,7 @@ GraphBatch build_graph(const FrameState& state, const GarmentTopology& topology,
                                 torch::zeros({nu, 1}, x.options()), scene.expand({nu, scene.size(0)})}, 1);
   g.node_features = torch::cat({garment, body_nodes}, 0);
   g.body_vertex_index = used_t;
+  if (options.coarse_levels > 0) g.vertex_level = torch::cat({topology.vertex_level, torch::zeros({nu}, index_options)});
 
   auto garment_node = pairs.select(1, 0).contiguous().to(dev);
   g.world_senders = torch::cat({body_node, garment_node});

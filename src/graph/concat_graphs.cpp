@@ -11,6 +11,9 @@ GraphBatch concat_graphs(const std::vector<GraphBatch>& graphs) {
   for (const auto& g : graphs) total_garment += g.num_garment_nodes;
 
   std::vector<torch::Tensor> garment_nodes, body_nodes, ms, mr, mf, ws, wr, wf, body_index, scale;
+  std::vector<torch::Tensor> garment_levels, body_levels;
+  const size_t levels = graphs[0].coarse.size();
+  std::vector<std::vector<torch::Tensor>> cs(levels), cr(levels), cf(levels);
   int64_t garment_offset = 0, body_offset = total_garment;
   double length_sum = 0, edge_count = 0;
   for (const auto& g : graphs) {
@@ -28,6 +31,16 @@ GraphBatch concat_graphs(const std::vector<GraphBatch>& graphs) {
     wr.push_back(renumber(g.world_receivers));
     wf.push_back(g.world_features);
     body_index.push_back(g.body_vertex_index);
+    if (g.coarse.size() != levels) throw Error("concat_graphs: graphs with different numbers of coarse levels");
+    for (size_t l = 0; l < levels; ++l) {
+      cs[l].push_back(g.coarse[l].senders + garment_offset);
+      cr[l].push_back(g.coarse[l].receivers + garment_offset);
+      cf[l].push_back(g.coarse[l].features);
+    }
+    if (levels > 0) {
+      garment_levels.push_back(g.vertex_level.narrow(0, 0, n));
+      body_levels.push_back(g.vertex_level.narrow(0, n, nb));
+    }
     scale.push_back(g.vertex_mean_edge_length);
     length_sum += g.mean_edge_length * static_cast<double>(g.mesh_senders.size(0));
     edge_count += static_cast<double>(g.mesh_senders.size(0));
@@ -49,6 +62,16 @@ GraphBatch concat_graphs(const std::vector<GraphBatch>& graphs) {
   out.world_sender_rows = group_rows(out.world_senders, out.num_nodes());
   out.world_receiver_rows = group_rows(out.world_receivers, out.num_nodes());
   out.body_vertex_index = torch::cat(body_index);
+  for (size_t l = 0; l < levels; ++l) {
+    GraphEdges set{torch::cat(cs[l]), torch::cat(cr[l]), torch::cat(cf[l], 0), {}, {}};
+    set.sender_rows = group_rows(set.senders, out.num_garment_nodes);
+    set.receiver_rows = group_rows(set.receivers, out.num_garment_nodes);
+    out.coarse.push_back(set);
+  }
+  if (levels > 0) {
+    garment_levels.insert(garment_levels.end(), body_levels.begin(), body_levels.end());
+    out.vertex_level = torch::cat(garment_levels);
+  }
   out.vertex_mean_edge_length = torch::cat(scale);
   out.mean_edge_length = edge_count > 0 ? length_sum / edge_count : 0;
   return out;

@@ -43,11 +43,24 @@ std::array<double, 4> normalised_material(const Material& material, const Materi
           unit("bending", ranges.bending, material.bending, true)};
 }
 
-torch::Tensor mesh_edge_features(const torch::Tensor& x, const GarmentTopology& topology) {
-  auto d = x.index_select(0, topology.receivers) - x.index_select(0, topology.senders);
+namespace {
+torch::Tensor relative_edge_features(const torch::Tensor& x, const torch::Tensor& senders,
+                                     const torch::Tensor& receivers, const torch::Tensor& rest_direction,
+                                     const torch::Tensor& rest_length) {
+  auto d = x.index_select(0, receivers) - x.index_select(0, senders);
   auto len = d.norm(2, 1, true);
-  auto rest_len = topology.rest_length.unsqueeze(1);
-  return torch::cat({d / len.clamp_min(1e-12), topology.rest_direction, len / rest_len}, 1);
+  auto rest_len = rest_length.unsqueeze(1);
+  return torch::cat({d / len.clamp_min(1e-12), rest_direction, len / rest_len}, 1);
+}
+}  // namespace
+
+torch::Tensor mesh_edge_features(const torch::Tensor& x, const GarmentTopology& topology) {
+  return relative_edge_features(x, topology.senders, topology.receivers, topology.rest_direction,
+                                topology.rest_length);
+}
+
+torch::Tensor edge_set_features(const torch::Tensor& x, const GarmentEdgeSet& edges) {
+  return relative_edge_features(x, edges.senders, edges.receivers, edges.rest_direction, edges.rest_length);
 }
 
 torch::Tensor world_edge_features(const torch::Tensor& p, const torch::Tensor& q,

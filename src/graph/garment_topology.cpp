@@ -1,6 +1,7 @@
 #include "pb4u/graph/garment_topology.h"
 
 #include "pb4u/graph/features.h"
+#include "pb4u/mesh/coarse_levels.h"
 #include "pb4u/mesh/edges.h"
 #include "pb4u/mesh/geometry.h"
 #include "pb4u/util/error.h"
@@ -11,6 +12,36 @@ namespace {
 torch::Tensor to_float_tensor(const Eigen::VectorXd& v) {
   return torch::from_blob(const_cast<double*>(v.data()), {v.size()}, torch::kFloat64)
       .to(torch::kFloat32);
+}
+
+// The unique edges E (i, j) in both directions, (i -> j) first, with their rest geometry.
+GarmentEdgeSet directed_edge_set(const Eigen::MatrixXd& rest, const Eigen::MatrixXi& E, int64_t n) {
+  const int64_t ne = E.rows();
+  GarmentEdgeSet set;
+  set.senders = torch::empty({2 * ne}, torch::kInt64);
+  set.receivers = torch::empty({2 * ne}, torch::kInt64);
+  set.rest_direction = torch::empty({2 * ne, 3}, torch::kFloat32);
+  set.rest_length = torch::empty({2 * ne}, torch::kFloat32);
+  auto s = set.senders.accessor<int64_t, 1>(), r = set.receivers.accessor<int64_t, 1>();
+  auto dir = set.rest_direction.accessor<float, 2>();
+  auto len = set.rest_length.accessor<float, 1>();
+  for (int64_t e = 0; e < ne; ++e) {
+    const double length = (rest.row(E(e, 1)) - rest.row(E(e, 0))).norm();
+    for (int64_t k = 0; k < 2; ++k) {
+      const int64_t d = e + k * ne;
+      s[d] = E(e, k);
+      r[d] = E(e, 1 - k);
+      // The mesh's edges have positive length (checked); a coarse edge between two vertices
+      // that coincide gets no direction.
+      Eigen::RowVector3d u = length > 0 ? Eigen::RowVector3d((rest.row(r[d]) - rest.row(s[d])) / length)
+                                        : Eigen::RowVector3d::Zero();
+      for (int c = 0; c < 3; ++c) dir[d][c] = static_cast<float>(u(c));
+      len[d] = static_cast<float>(length);
+    }
+  }
+  set.sender_rows = group_rows(set.senders, n);
+  set.receiver_rows = group_rows(set.receivers, n);
+  return set;
 }
 }  // namespace
 
@@ -25,7 +56,6 @@ GarmentTopology build_garment_topology(const TriMesh& rest, const std::string& w
   Eigen::VectorXd L = edge_lengths(rest.V, E);
   if (L.minCoeff() <= 0) fail_file(where, "zero-length rest edge (weld or clean the mesh first)");
 
-  const int64_t ne = E.rows();
   GarmentTopology topo;
   topo.num_vertices = n;
   topo.mean_edge_length = L.mean();
@@ -35,26 +65,19 @@ GarmentTopology build_garment_topology(const TriMesh& rest, const std::string& w
     for (int k = 0; k < 3; ++k) fa[f][k] = rest.F(f, k);
   topo.faces = faces;
 
-  topo.senders = torch::empty({2 * ne}, torch::kInt64);
-  topo.receivers = torch::empty({2 * ne}, torch::kInt64);
-  topo.rest_direction = torch::empty({2 * ne, 3}, torch::kFloat32);
-  topo.rest_length = torch::empty({2 * ne}, torch::kFloat32);
-  auto s = topo.senders.accessor<int64_t, 1>(), r = topo.receivers.accessor<int64_t, 1>();
-  auto dir = topo.rest_direction.accessor<float, 2>();
-  auto len = topo.rest_length.accessor<float, 1>();
-  for (int64_t e = 0; e < ne; ++e) {
-    for (int64_t k = 0; k < 2; ++k) {
-      const int64_t d = e + k * ne;
-      s[d] = E(e, k);
-      r[d] = E(e, 1 - k);
-      Eigen::RowVector3d u = (rest.V.row(r[d]) - rest.V.row(s[d])) / L(e);
-      for (int c = 0; c < 3; ++c) dir[d][c] = static_cast<float>(u(c));
-      len[d] = static_cast<float>(L(e));
-    }
-  }
+  GarmentEdgeSet mesh = directed_edge_set(rest.V, E, n);
+  topo.senders = mesh.senders;
+  topo.receivers = mesh.receivers;
+  topo.sender_rows = mesh.sender_rows;
+  topo.receiver_rows = mesh.receiver_rows;
+  topo.rest_direction = mesh.rest_direction;
+  topo.rest_length = mesh.rest_length;
   topo.corner_rows = face_corner_rows(topo.faces, n);
-  topo.sender_rows = group_rows(topo.senders, n);
-  topo.receiver_rows = group_rows(topo.receivers, n);
+  CoarseLevels levels = coarse_levels(E, n, kCoarseLevels);
+  for (const Eigen::MatrixXi& level : levels.edges) topo.coarse.push_back(directed_edge_set(rest.V, level, n));
+  topo.vertex_level = torch::empty({n}, torch::kInt64);
+  auto level_of = topo.vertex_level.accessor<int64_t, 1>();
+  for (int v = 0; v < n; ++v) level_of[v] = levels.vertex_level(v);
   Eigen::VectorXd area = vertex_masses(rest.V, rest.F, 1.0);
   Eigen::Index worst;
   // Log masses are features: every vertex needs a face of positive area.
@@ -68,8 +91,16 @@ GarmentTopology build_garment_topology(const TriMesh& rest, const std::string& w
 GarmentTopology garment_topology_to(const GarmentTopology& topology, torch::Device device) {
   GarmentTopology out = topology;
   for (torch::Tensor* t : {&out.faces, &out.senders, &out.receivers, &out.rest_direction, &out.rest_length,
-                           &out.vertex_area, &out.vertex_mean_edge_length})
+                           &out.vertex_area, &out.vertex_mean_edge_length, &out.vertex_level})
     if (t->defined()) *t = t->to(device);
+  for (GarmentEdgeSet& set : out.coarse) {
+    for (torch::Tensor* t : {&set.senders, &set.receivers, &set.rest_direction, &set.rest_length})
+      if (t->defined()) *t = t->to(device);
+    if (!device.is_cpu()) {
+      set.sender_rows = RowIndex(set.senders);
+      set.receiver_rows = RowIndex(set.receivers);
+    }
+  }
   // Groups serve CPU tensors only; elsewhere torch's kernels sum the rows.
   out.sender_rows = device.is_cpu() ? topology.sender_rows : RowIndex(out.senders);
   out.receiver_rows = device.is_cpu() ? topology.receiver_rows : RowIndex(out.receivers);

@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <fstream>
+#include <limits>
 #include <map>
 
 #include "pb4u/graph/build_graph.h"
@@ -15,6 +16,8 @@
 namespace pb4u {
 
 namespace {
+constexpr int64_t kLevelEmbeddingDim = 4;  // HOOD's
+
 // Adds the milliseconds since `t0` to *slot (if timing) and restarts the clock.
 struct StageClock {
   std::chrono::steady_clock::time_point t0 = std::chrono::steady_clock::now();
@@ -41,15 +44,26 @@ Pb4uNetImpl::Pb4uNetImpl(const ModelConfig& c) : config(c) {
   auto encoder = [&](const char* name, int64_t dim) {
     return register_module(name, MLP(std::vector<int64_t>{dim}, H, H, L, true));
   };
-  vertex_encoder = encoder("vertex_encoder", kVertexFeatureDim);
+  vertex_encoder = encoder("vertex_encoder", kVertexFeatureDim + (config.is_hood() ? kLevelEmbeddingDim : 0));
   mesh_encoder = encoder("mesh_encoder", kMeshEdgeFeatureDim);
   world_encoder = encoder("world_encoder", world_dim);
   if (config.is_pb4u()) {
     propagation = register_module("propagation", DecayedPropagation(H, L, config.gamma));
     update = register_module("update", MLP(std::vector<int64_t>{H, H}, H, H, L, true));
   }
-  for (int b = 0; b < config.num_blocks; ++b)
-    blocks.push_back(register_module("block" + std::to_string(b), GraphNetBlock(H, L)));
+  if (config.is_hood()) {
+    // HOOD's nn.Embedding(levels + 1, 4) starts from N(0, 1) rows.
+    level_embedding = register_parameter("level_embedding", torch::randn({kCoarseLevels + 1, kLevelEmbeddingDim}));
+    for (int l = 0; l < kCoarseLevels; ++l)
+      coarse_encoders.push_back(register_module("coarse" + std::to_string(l) + "_encoder",
+                                                MLP(std::vector<int64_t>{kMeshEdgeFeatureDim}, H, H, L, true)));
+    const auto schedule = parse_hood_schedule(config.hood_schedule, kCoarseLevels);
+    for (size_t b = 0; b < schedule.size(); ++b)
+      hood_blocks.push_back(register_module("block" + std::to_string(b), HoodBlock(schedule[b], H, L)));
+  } else {
+    for (int b = 0; b < config.num_blocks; ++b)
+      blocks.push_back(register_module("block" + std::to_string(b), GraphNetBlock(H, L)));
+  }
   decoder = register_module("decoder", MLP(std::vector<int64_t>{H}, H, 3, L, false));
   lbar_base = register_buffer("mean_edge_length_base", torch::zeros({}, torch::kFloat64));
   distance = register_buffer("propagation_distance", torch::zeros({}, torch::kFloat64));
@@ -73,7 +87,15 @@ torch::Tensor Pb4uNetImpl::forward(const GraphBatch& g, int64_t K, StageTimes* t
   StageClock clock;
   const int64_t H = config.latent;
   LatentGraph latent;
-  latent.nodes = vertex_encoder->forward({vertex_normalizer(g.node_features)});
+  torch::Tensor vertex_in = vertex_normalizer(g.node_features);
+  if (config.is_hood()) {
+    if (!g.vertex_level.defined() || static_cast<int>(g.coarse.size()) != kCoarseLevels)
+      throw Error("hood model: the graph has no coarse levels (build it with the model's graph options)");
+    // nn.Embedding's max_norm: rows longer than 1 scaled back to 1.
+    auto scale = level_embedding.norm(2, 1, true).clamp_min(1.0).reciprocal();
+    vertex_in = torch::cat({vertex_in, (level_embedding * scale).index_select(0, g.vertex_level)}, 1);
+  }
+  latent.nodes = vertex_encoder->forward({vertex_in});
   latent.mesh_edges = mesh_encoder->forward({mesh_normalizer(g.mesh_features)});
   latent.world_edges = g.num_world_edges() > 0
                            ? world_encoder->forward({world_normalizer(g.world_features)})
@@ -91,8 +113,12 @@ torch::Tensor Pb4uNetImpl::forward(const GraphBatch& g, int64_t K, StageTimes* t
     latent.nodes = update->forward({latent.nodes, h});
   }
   clock.lap(times ? &times->propagate : nullptr);
-  for (auto& block : blocks)
-    latent = block(latent, ms, mr, ws, wr);
+  if (config.is_hood()) {
+    latent.nodes = hood_blocks_forward(g, latent.nodes, latent.mesh_edges, latent.world_edges, ms, mr, ws, wr);
+  } else {
+    for (auto& block : blocks)
+      latent = block(latent, ms, mr, ws, wr);
+  }
   clock.lap(times ? &times->blocks : nullptr);
   auto a = decoder->forward({latent.nodes.narrow(0, 0, g.num_garment_nodes)});
   auto s = update_scale(g.vertex_mean_edge_length, mean_edge_length_base(), config.update_scaling_on());
@@ -103,6 +129,53 @@ torch::Tensor Pb4uNetImpl::forward(const GraphBatch& g, int64_t K, StageTimes* t
   a = a * config.acceleration_unit;
   clock.lap(times ? &times->decode : nullptr);
   return a;
+}
+
+torch::Tensor Pb4uNetImpl::hood_blocks_forward(const GraphBatch& g, torch::Tensor nodes, torch::Tensor mesh_edges,
+                                               torch::Tensor world_edges, const RowIndex& ms, const RowIndex& mr,
+                                               const RowIndex& ws, const RowIndex& wr) {
+  HoodLatents latent{std::move(nodes), {std::move(mesh_edges)}, std::move(world_edges)};
+  HoodIndices full;
+  full.senders = {ms};
+  full.receivers = {mr};
+  std::vector<bool> used(kCoarseLevels + 1, false);
+  for (auto& block : hood_blocks)
+    for (int s : block->sets) used[static_cast<size_t>(s)] = true;
+  for (int l = 0; l < kCoarseLevels; ++l) {
+    const GraphEdges& set = g.coarse[static_cast<size_t>(l)];
+    // A level no block reads (HOOD's schedule never reads c2) is not encoded.
+    latent.edge_sets.push_back(used[static_cast<size_t>(l) + 1]
+                                   ? coarse_encoders[static_cast<size_t>(l)]->forward({mesh_normalizer(set.features)})
+                                   : torch::Tensor());
+    full.senders.push_back(set.sender_rows.index.defined() ? set.sender_rows : RowIndex(set.senders));
+    full.receivers.push_back(set.receiver_rows.index.defined() ? set.receiver_rows : RowIndex(set.receivers));
+  }
+  // The world edges each block keeps, by its finest set: all for the mesh edges, else those
+  // whose garment vertex (the end of higher level: a body node's is 0) is in that level.
+  const int64_t n = g.num_nodes();
+  std::vector<HoodIndices> by_finest(kCoarseLevels + 1);
+  auto indices_for = [&](int finest) -> const HoodIndices& {
+    HoodIndices& ix = by_finest[static_cast<size_t>(finest)];
+    if (ix.senders.empty()) {
+      ix.senders = full.senders;
+      ix.receivers = full.receivers;
+      const int64_t ew = g.num_world_edges();
+      if (finest == 0 || ew == 0) {
+        ix.world_kept = torch::arange(ew, g.world_senders.options());
+        ix.world_senders = ws;
+        ix.world_receivers = wr;
+      } else {
+        auto level = torch::maximum(g.vertex_level.index_select(0, g.world_senders),
+                                    g.vertex_level.index_select(0, g.world_receivers));
+        ix.world_kept = torch::nonzero(level >= finest).view({-1});
+        ix.world_senders = group_rows(g.world_senders.index_select(0, ix.world_kept), n);
+        ix.world_receivers = group_rows(g.world_receivers.index_select(0, ix.world_kept), n);
+      }
+    }
+    return ix;
+  };
+  for (auto& block : hood_blocks) latent = block(latent, indices_for(block->finest_set()));
+  return latent.nodes;
 }
 
 torch::Tensor Pb4uNetImpl::step(const FrameState& state, const GarmentTopology& topology,
@@ -121,6 +194,7 @@ void Pb4uNetImpl::set_split_first_layer(bool split) {
 double Pb4uNetImpl::message_passing_flops(int64_t nodes, int64_t mesh_edges, int64_t world_edges,
                                           int64_t K) const {
   const double n = double(nodes), Em = double(mesh_edges), Ew = double(world_edges);
+  if (config.is_hood()) return std::numeric_limits<double>::quiet_NaN();
   double flops = 0;
   if (propagation) {
     flops += propagation->matmul_flops(n, Em, K);

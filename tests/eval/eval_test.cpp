@@ -184,6 +184,10 @@ TEST(MethodName, FollowsTheModelConfig) {
   EXPECT_EQ(method_name(c), "MGN + projection");
   c.strain_limit = 0.1;
   EXPECT_EQ(method_name(c), "MGN + projection + strain limit");
+  c.kind = "hood";
+  EXPECT_EQ(method_name(c), "HOOD + projection + strain limit");
+  c.contact_projection = c.strain_limit = 0;
+  EXPECT_EQ(method_name(c), "HOOD");
 }
 
 TEST(Evaluate, JsonHasEveryActiveTermPerLevelAndMethod) {

@@ -14,21 +14,7 @@ namespace {
 
 using test::tiny_config;
 using test::tiny_scene;
-
-// A calibrated model whose normalisers saw a few frames (so they are not the identity).
-Pb4uNet warmed_model(const ModelConfig& c, unsigned seed = 0) {
-  torch::manual_seed(seed);
-  Pb4uNet model(c);
-  model->calibrate(0.04);
-  model->train();
-  for (unsigned i = 0; i < 3; ++i) {
-    auto s = tiny_scene(100 + i, true);
-    GarmentTopology t = build_garment_topology(s.rest);
-    model->forward(build_graph(s.state, t, c.graph_options()), 2);
-  }
-  model->eval();
-  return model;
-}
+using test::warmed_model;
 
 torch::Tensor predict(Pb4uNet& model, const test::TinyScene& s, int64_t K = -1) {
   GarmentTopology t = build_garment_topology(s.rest);
@@ -97,7 +83,7 @@ TEST(Pb4uNet, SaveLoadRoundTripGivesIdenticalOutputs) {
 }
 
 TEST(Pb4uNet, FiniteOutputsForEveryKindAndAblation) {
-  for (std::string kind : {"pb4u", "mgn"})
+  for (std::string kind : {"pb4u", "mgn", "hood"})
     for (std::string control : {"on", "off"})
       for (std::string scaling : {"on", "off"}) {
         ModelConfig c = tiny_config(kind);

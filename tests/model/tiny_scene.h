@@ -4,7 +4,9 @@
 // have world edges within 3 cm and some do not.
 #include <torch/torch.h>
 
+#include "pb4u/graph/build_graph.h"
 #include "pb4u/graph/garment_topology.h"
+#include "pb4u/model/pb4u_net.h"
 #include "pb4u/model/model_config.h"
 #include "pb4u/scene/frame_state.h"
 #include "test_util.h"
@@ -59,9 +61,25 @@ inline ModelConfig tiny_config(const std::string& kind = "pb4u") {
   c.kind = kind;
   c.latent = 16;
   c.num_blocks = 2;
+  c.hood_schedule = "f,c0|c1";  // hood: one fine block, one on coarse level 1 alone
   c.k_base = 3;
   c.normalizer_warmup = 5;
   return c;
+}
+
+// A calibrated model whose normalisers saw a few frames (so they are not the identity).
+inline Pb4uNet warmed_model(const ModelConfig& c, unsigned seed = 0) {
+  torch::manual_seed(seed);
+  Pb4uNet model(c);
+  model->calibrate(0.04);
+  model->train();
+  for (unsigned i = 0; i < 3; ++i) {
+    auto s = tiny_scene(100 + i, true);
+    GarmentTopology t = build_garment_topology(s.rest);
+    model->forward(build_graph(s.state, t, c.graph_options()), 2);
+  }
+  model->eval();
+  return model;
 }
 
 }  // namespace pb4u::test

@@ -31,6 +31,8 @@ std::array<double, 4> normalised_material(const Material& material, const Materi
 // (3), rest unit direction (3), current / rest length (1). No absolute lengths, so a uniform
 // scaling of the garment leaves them unchanged.
 torch::Tensor mesh_edge_features(const torch::Tensor& x, const GarmentTopology& topology);
+// The same 7 features for any set of garment edges (HOOD's coarse edges).
+torch::Tensor edge_set_features(const torch::Tensor& x, const GarmentEdgeSet& edges);
 
 // (Ew, 8) world-edge features from node positions p (nodes, 3) at time t and q (nodes, 3) the
 // positions expected at t + dt (body: its next pose; garment: x + v dt): p_r - p_s, |p_r - p_s|,

@@ -1,15 +1,26 @@
 #pragma once
 // What the graph needs from a garment's rest mesh, computed once per garment and reused every
 // frame: the directed mesh edges and their rest geometry, lumped vertex areas (masses follow
-// from the material's density) and the rest edge lengths behind K and the update scaling.
+// from the material's density), the rest edge lengths behind K and the update scaling, and
+// HOOD's long-range edges (mesh/coarse_levels.h) for the hood baseline.
 #include <torch/torch.h>
 
 #include <string>
+#include <vector>
 
+#include "pb4u/graph/graph_options.h"
 #include "pb4u/graph/row_index.h"
 #include "pb4u/mesh/triangle_mesh.h"
 
 namespace pb4u {
+
+// A set of directed garment edges (each in both directions) with its rest geometry.
+struct GarmentEdgeSet {
+  torch::Tensor senders, receivers;     // (2E) int64
+  RowIndex sender_rows, receiver_rows;  // grouped by vertex (on the CPU)
+  torch::Tensor rest_direction;         // (2E, 3) float, unit (X_receiver - X_sender)
+  torch::Tensor rest_length;            // (2E) float, m
+};
 
 struct GarmentTopology {
   torch::Tensor faces;                    // (m, 3) int64
@@ -22,6 +33,8 @@ struct GarmentTopology {
   torch::Tensor vertex_mean_edge_length;  // (n) float, m: mean rest length of incident edges
   double mean_edge_length = 0;            // m: Lbar, mean rest length of the unique edges
   int64_t num_vertices = 0;
+  std::vector<GarmentEdgeSet> coarse;     // kCoarseLevels sets of long-range edges, finest first
+  torch::Tensor vertex_level;             // (n) int64: 0, or 1 + the coarsest level a vertex is in
 
   int64_t num_mesh_edges() const { return senders.size(0); }
 };

@@ -4,6 +4,8 @@
 // that world edges touch. Mesh-edge index tensors are the cached topology's, shared, not copied.
 #include <torch/torch.h>
 
+#include <vector>
+
 #include "pb4u/graph/row_index.h"
 
 namespace pb4u {
@@ -15,6 +17,13 @@ constexpr int64_t kWorldEdgeFeatureDim = 8;  // without the body-normal distance
 // With GraphOptions::body_normal_distance: + the garment vertex's height over the body vertex's
 // tangent plane, now and at the ballistic guess against the next pose.
 constexpr int64_t kWorldEdgeNormalDistanceDim = 2;
+
+// One set of garment edges in a graph: garment node ids, its features, its grouped indices.
+struct GraphEdges {
+  torch::Tensor senders, receivers;  // (E) int64
+  torch::Tensor features;            // (E, 7) float, as the mesh edges'
+  RowIndex sender_rows, receiver_rows;
+};
 
 struct GraphBatch {
   torch::Tensor node_features;                   // (nodes, 21) float
@@ -29,6 +38,10 @@ struct GraphBatch {
   torch::Tensor body_vertex_index;               // (nodes - n) int64: body vertex of each body node
   torch::Tensor vertex_mean_edge_length;         // (n) float, m: numerator of the update scaling
   double mean_edge_length = 0;                   // m: the garment's Lbar, which sets K
+  // With GraphOptions::coarse_levels > 0 (the hood baseline): HOOD's long-range edge sets,
+  // finest first, and every node's level (0 for body nodes; graph/garment_topology.h).
+  std::vector<GraphEdges> coarse;
+  torch::Tensor vertex_level;                    // (nodes) int64
 
   int64_t num_nodes() const { return node_features.size(0); }
   int64_t num_world_edges() const { return world_senders.defined() ? world_senders.size(0) : 0; }

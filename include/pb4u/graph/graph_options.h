@@ -4,6 +4,10 @@
 
 namespace pb4u {
 
+// HOOD's coarse levels (its public configuration's n_coarse_levels): every garment topology
+// has them (graph/garment_topology.h), a hood model reads them.
+constexpr int kCoarseLevels = 3;
+
 // How the graph is built (from ModelConfig::graph_options(), so a model always gets the graph
 // it was trained on).
 struct GraphOptions {
@@ -13,6 +17,9 @@ struct GraphOptions {
   // World edges also carry (x - b).n_b now and (x + v dt - b').n_b' at the next pose: how far
   // the garment vertex is, and will be if it coasts, above the body's tangent plane (m).
   bool body_normal_distance = false;
+  // > 0: the graph also carries this many of HOOD's coarse edge sets and each node's level
+  // (GraphBatch::coarse, vertex_level), for the hood baseline.
+  int coarse_levels = 0;
 
   int64_t world_edge_feature_dim() const { return body_normal_distance ? 10 : 8; }
 };

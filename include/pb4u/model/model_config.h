@@ -11,7 +11,11 @@
 namespace pb4u {
 
 struct ModelConfig {
-  std::string kind = "pb4u";               // pb4u | mgn (no propagation: the paper's MGN)
+  // pb4u | mgn (no propagation: the paper's MGN) | hood (no propagation; HOOD's coarse edge
+  // sets and U-shaped block schedule, model/hood_block.h)
+  std::string kind = "pb4u";
+  // hood: each block's edge sets (model/hood_block.h); num_blocks must match. HOOD's own.
+  std::string hood_schedule = "f,c0|f,c0|f,c0|c0,c1|c0,c1|c0,c1|c1|c1|c1|c0,c1|c0,c1|c0,c1|f,c0|f,c0|f,c0";
   std::string propagation_control = "on";  // on: K = max(1, floor(D / Lbar)); off: K = K_base
   // on: a = s (.) a~ (SPEC 4); off: s = 1; detail: only the acceleration's detail is scaled,
   // a = S(a~) + s (.) (a~ - S(a~)), S smoothing over smooth_distance (update_scaling.h).
@@ -54,15 +58,18 @@ struct ModelConfig {
   MaterialRanges material_ranges;
 
   bool is_pb4u() const { return kind == "pb4u"; }
+  bool is_hood() const { return kind == "hood"; }
   bool propagation_control_on() const { return propagation_control == "on"; }
   bool update_scaling_on() const { return update_scaling != "off"; }
   GraphOptions graph_options() const {
-    return {world_edge_radius, world_edges == "nearest", material_ranges, world_normal_distance == "on"};
+    return {world_edge_radius, world_edges == "nearest", material_ranges, world_normal_distance == "on",
+            is_hood() ? kCoarseLevels : 0};
   }
 
   template <class V>
   void visit(V& v) {
-    v("kind", kind, one_of({"pb4u", "mgn"}));
+    v("kind", kind, one_of({"pb4u", "mgn", "hood"}));
+    v("hood_schedule", hood_schedule);
     v("propagation_control", propagation_control, one_of({"on", "off"}));
     v("update_scaling", update_scaling, one_of({"on", "off", "detail"}));
     v("smooth_distance", smooth_distance, positive());

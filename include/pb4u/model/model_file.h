@@ -46,7 +46,7 @@ bool is_model_export(const std::string& path);
 // step, parameter_count; one dataset per parameter and buffer.
 void export_model_file(const ModelFile& model, const std::string& out);
 
-// The method's name for tables, from its config: "Pb4U", "MGN", "Pb4U w/o PC",
+// The method's name for tables, from its config: "Pb4U", "MGN", "HOOD", "Pb4U w/o PC",
 // "Pb4U w/o US" or "Pb4U w/o both", with " + projection" when it projects out of the body and
 // " + strain limit" when it limits edge strain.
 std::string method_name(const ModelConfig& config);

@@ -2,7 +2,8 @@
 // Pb4U-GNet and its baselines (SPEC 4), one code path chosen by ModelConfig:
 //   normalise -> encode -> [pb4u: propagate K steps, update f_u(v, h^K)] -> N blocks -> decode
 //   -> update scaling -> acceleration.
-// kind mgn skips propagation and update (the paper's MGN); propagation_control off fixes
+// kind mgn skips propagation and update (the paper's MGN); kind hood too, and its blocks are
+// HOOD's over the coarse edge sets (hood_block.h); propagation_control off fixes
 // K = K_base; update_scaling off sets s = 1. The calibration (Lbar_base, D = K_base Lbar_base)
 // and the normaliser statistics are buffers, saved and loaded with the weights.
 #include <torch/torch.h>
@@ -14,6 +15,7 @@
 #include "pb4u/graph/online_normalizer.h"
 #include "pb4u/model/decayed_propagation.h"
 #include "pb4u/model/graph_net_block.h"
+#include "pb4u/model/hood_block.h"
 #include "pb4u/model/mlp.h"
 #include "pb4u/model/model_config.h"
 #include "pb4u/scene/frame_state.h"
@@ -53,7 +55,8 @@ struct Pb4uNetImpl : torch::nn::Module {
 
   // Matmul FLOPs of the message passing of one forward (propagation, update and blocks; not
   // the encoders or the decoder) on a graph of `nodes` nodes, `mesh_edges` and `world_edges`
-  // edges, with K propagation steps: the benchmark's measure of work per frame.
+  // edges, with K propagation steps: the benchmark's measure of work per frame. NaN for hood
+  // (its coarse edges are not among the counts).
   double message_passing_flops(int64_t nodes, int64_t mesh_edges, int64_t world_edges, int64_t K) const;
 
   ModelConfig config;
@@ -62,8 +65,19 @@ struct Pb4uNetImpl : torch::nn::Module {
   DecayedPropagation propagation{nullptr};  // pb4u only
   MLP update{nullptr};                      // f_u(v, h^K), pb4u only
   std::vector<GraphNetBlock> blocks;
+  // hood only: the level embedding (kCoarseLevels + 1, 4; rows of norm at most 1, appended to
+  // the normalised vertex features), one encoder per coarse edge set, HOOD's blocks.
+  torch::Tensor level_embedding;
+  std::vector<MLP> coarse_encoders;
+  std::vector<HoodBlock> hood_blocks;
   MLP decoder{nullptr};
   torch::Tensor lbar_base, distance;  // () float64 buffers, m
+
+ private:
+  // The hood blocks over the encoded latents (nodes, mesh and world edges, and g's coarse sets).
+  torch::Tensor hood_blocks_forward(const GraphBatch& g, torch::Tensor nodes, torch::Tensor mesh_edges,
+                                    torch::Tensor world_edges, const RowIndex& ms, const RowIndex& mr,
+                                    const RowIndex& ws, const RowIndex& wr);
 };
 TORCH_MODULE(Pb4uNet);
 

@@ -1,0 +1,143 @@
+// The hood baseline: HOOD's schedule, its coarse edge sets in the graph, its blocks and the
+// whole model saving, loading, batching and stepping on a tiny garment.
+#include <gtest/gtest.h>
+
+#include "model/tiny_scene.h"
+#include "pb4u/graph/build_graph.h"
+#include "pb4u/graph/concat_graphs.h"
+#include "pb4u/model/hood_block.h"
+#include "pb4u/model/pb4u_net.h"
+#include "pb4u/util/error.h"
+
+namespace pb4u {
+namespace {
+
+using test::tiny_config;
+using test::tiny_scene;
+
+TEST(HoodSchedule, HoodsOwnIsAUOverTheMeshAndTwoCoarseLevels) {
+  const auto blocks = parse_hood_schedule(ModelConfig{}.hood_schedule, kCoarseLevels);
+  ASSERT_EQ(blocks.size(), 15u);
+  const std::vector<std::vector<int>> expected{{0, 1}, {1, 2}, {2}, {1, 2}, {0, 1}};  // f,c0 | c0,c1 | c1 | ...
+  for (size_t b = 0; b < 15; ++b) EXPECT_EQ(blocks[b], expected[b / 3]) << "block " << b + 1;
+  // HOOD's own level marks are read and ignored.
+  EXPECT_EQ(parse_hood_schedule("f,c0|d:c0,c1|u:f", 3), (std::vector<std::vector<int>>{{0, 1}, {1, 2}, {0}}));
+}
+
+TEST(HoodSchedule, BadEntriesNameTheBlockAndTheKey) {
+  for (std::string bad : {"f,c3", "f|x", "f||c0", "", "f,c"}) {
+    try {
+      parse_hood_schedule(bad, 3);
+      FAIL() << bad;
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("model.hood_schedule"), std::string::npos) << e.what();
+    }
+  }
+  ModelConfig c = tiny_config("hood");
+  c.num_blocks = 3;
+  try {
+    Pb4uNet model(c);
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("model.num_blocks"), std::string::npos) << e.what();
+  }
+}
+
+TEST(HoodGraph, CarriesTheCoarseSetsAndEachNodesLevel) {
+  auto s = tiny_scene(40);
+  GarmentTopology t = build_garment_topology(s.rest);
+  GraphBatch plain = build_graph(s.state, t, tiny_config("pb4u").graph_options());
+  EXPECT_TRUE(plain.coarse.empty());
+  GraphBatch g = build_graph(s.state, t, tiny_config("hood").graph_options());
+  ASSERT_EQ(g.coarse.size(), static_cast<size_t>(kCoarseLevels));
+  ASSERT_GT(g.num_world_edges(), 0);
+  // The tiny garment is the 5 x 5 grid of the coarse-level test: 22 and 9 edges, both ways.
+  EXPECT_EQ(g.coarse[0].senders.size(0), 44);
+  EXPECT_EQ(g.coarse[1].senders.size(0), 18);
+  EXPECT_EQ(g.coarse[2].senders.size(0), 0);
+  ASSERT_EQ(g.vertex_level.size(0), g.num_nodes());
+  EXPECT_TRUE(torch::equal(g.vertex_level.narrow(0, 0, 25), t.vertex_level));
+  EXPECT_EQ(g.vertex_level.narrow(0, 25, g.num_nodes() - 25).abs().sum().item<int64_t>(), 0);
+  // Features as the mesh edges': current direction, rest direction, current / rest length.
+  auto x = s.state.x.to(torch::kFloat32);
+  for (int64_t e : {0, 5, 17}) {
+    const int64_t a = g.coarse[1].senders[e].item<int64_t>(), b = g.coarse[1].receivers[e].item<int64_t>();
+    auto d = x[b] - x[a];
+    auto rest = test::to_tensor(s.rest.V).to(torch::kFloat32);
+    auto r = rest[b] - rest[a];
+    auto f = g.coarse[1].features[e];
+    EXPECT_TRUE(torch::allclose(f.narrow(0, 0, 3), d / d.norm(), 1e-5, 1e-6));
+    EXPECT_TRUE(torch::allclose(f.narrow(0, 3, 3), r / r.norm(), 1e-5, 1e-6));
+    EXPECT_NEAR(f[6].item<double>(), (d.norm() / r.norm()).item<double>(), 1e-5);
+  }
+}
+
+TEST(HoodBlock, KeepsOnlyTheWorldEdgesItIsGivenAndTheirLatentsAlone) {
+  torch::manual_seed(41);
+  HoodBlock block(std::vector<int>{2}, 8, 1);
+  HoodLatents g{torch::randn({6, 8}), {torch::randn({2, 8}), torch::randn({2, 8}), torch::randn({4, 8})},
+                torch::randn({4, 8})};
+  HoodIndices ix;
+  ix.senders = {RowIndex(torch::tensor({0, 1})), RowIndex(torch::tensor({1, 2})), RowIndex(torch::tensor({0, 2, 2, 4}))};
+  ix.receivers = {RowIndex(torch::tensor({1, 0})), RowIndex(torch::tensor({2, 1})), RowIndex(torch::tensor({2, 0, 4, 2}))};
+  ix.world_kept = torch::tensor({0, 2});
+  ix.world_senders = RowIndex(torch::tensor({5, 2}));
+  ix.world_receivers = RowIndex(torch::tensor({2, 5}));
+  torch::NoGradGuard no_grad;
+  HoodLatents out = block(g, ix);
+  EXPECT_EQ(block->finest_set(), 2);
+  // Only its own set moves; the world edges it was not given keep their latents.
+  EXPECT_TRUE(torch::equal(out.edge_sets[0], g.edge_sets[0]));
+  EXPECT_TRUE(torch::equal(out.edge_sets[1], g.edge_sets[1]));
+  EXPECT_FALSE(torch::equal(out.edge_sets[2], g.edge_sets[2]));
+  for (int64_t e : {1, 3}) EXPECT_TRUE(torch::equal(out.world_edges[e], g.world_edges[e]));
+  for (int64_t e : {0, 2}) EXPECT_FALSE(torch::equal(out.world_edges[e], g.world_edges[e]));
+  // Node 3 has no edge in any set: its update sees only zero sums.
+  auto zero = torch::zeros({1, 8});
+  auto alone = g.nodes.narrow(0, 3, 1) + block->node->forward({g.nodes.narrow(0, 3, 1), zero, zero});
+  EXPECT_TRUE(torch::allclose(out.nodes.narrow(0, 3, 1), alone, 1e-6, 1e-6));
+}
+
+TEST(HoodNet, SavesLoadsBatchesStepsAndEveryReadPartLearns) {
+  Pb4uNet model = test::warmed_model(tiny_config("hood"), 42);
+  EXPECT_EQ(model->propagation_steps_for(0.05), 0);
+  EXPECT_TRUE(std::isnan(model->message_passing_flops(25, 80, 10, 0)));
+  auto s = tiny_scene(43, true);
+  GarmentTopology t = build_garment_topology(s.rest);
+  const GraphOptions options = model->config.graph_options();
+  GraphBatch g = build_graph(s.state, t, options);
+  torch::Tensor a;
+  {
+    torch::NoGradGuard no_grad;
+    a = model->forward(g, 0);
+  }
+  EXPECT_TRUE(torch::isfinite(a).all().item<bool>());
+  const std::string path = test::temp_dir("hood") + "/hood.pt";
+  save_model(model, path);
+  Pb4uNet loaded = load_model(path, model->config);
+  loaded->eval();
+  {
+    torch::NoGradGuard no_grad;
+    EXPECT_TRUE(torch::equal(loaded->forward(g, 0), a));
+    // A batch of two graphs (one without a body) predicts what each does.
+    auto b = tiny_scene(44);
+    b.state.effects.collision = b.state.effects.friction = false;
+    GraphBatch gb = build_graph(b.state, t, options);
+    auto batch = model->forward(concat_graphs({g, gb}), 0);
+    EXPECT_TRUE(torch::allclose(batch, torch::cat({a, model->forward(gb, 0)}), 1e-5, 1e-5));
+  }
+  // Pins are followed, and the step is under inference mode.
+  auto x_next = model->step(s.state, t);
+  EXPECT_TRUE(torch::equal(x_next.narrow(0, 0, 5), s.state.pin_targets.narrow(0, 0, 5)));
+  // Every parameter the schedule reads gets a gradient; the encoder of coarse level 2, which
+  // "f,c0|c1" never reads, is not run.
+  model->train();
+  model->forward(g, 0).square().sum().backward();
+  for (auto& p : model->named_parameters()) {
+    const bool unread = p.key().rfind("coarse2_encoder", 0) == 0;
+    EXPECT_EQ(p.value().grad().defined(), !unread) << p.key();
+  }
+}
+
+}  // namespace
+}  // namespace pb4u
