@@ -81,8 +81,7 @@ StageRow time_stages(Pb4uNet& net, const GarmentTopology& topology, const Rollou
     if (r == 0) {  // warm-up
       row.mesh_edges = g.mesh_senders.size(0);
       row.world_edges = g.num_world_edges();
-      row.message_passing_gflops =
-          net->message_passing_flops(g.num_nodes(), row.mesh_edges, row.world_edges, K);
+      row.message_passing_gflops = net->message_passing_flops(g, K);
       continue;
     }
     world.push_back(world_ms);

@@ -15,6 +15,15 @@ HoodBlockImpl::HoodBlockImpl(std::vector<int> s, int64_t latent, int hidden_laye
 
 int HoodBlockImpl::finest_set() const { return *std::min_element(sets.begin(), sets.end()); }
 
+double HoodBlockImpl::matmul_flops(double n, const std::vector<double>& set_edges, double world_kept) const {
+  double flops = 0;
+  for (size_t k = 0; k < sets.size(); ++k)
+    flops += edge_mlp_flops(*set_edge[k], n, set_edges[static_cast<size_t>(sets[k])], true);
+  if (world_kept > 0) flops += edge_mlp_flops(*world_edge, n, world_kept, true);
+  for (size_t part = 0; part < node->first_weights.size(); ++part) flops += node->first_layer_flops(part, n);
+  return flops + node->finish_flops(n);
+}
+
 HoodLatents HoodBlockImpl::forward(const HoodLatents& g, const HoodIndices& ix) {
   const int64_t n = g.nodes.size(0);
   HoodLatents out = g;

@@ -204,6 +204,24 @@ double Pb4uNetImpl::message_passing_flops(int64_t nodes, int64_t mesh_edges, int
   return flops;
 }
 
+double Pb4uNetImpl::message_passing_flops(const GraphBatch& g, int64_t K) const {
+  const int64_t ew = g.num_world_edges();
+  if (!config.is_hood()) return message_passing_flops(g.num_nodes(), g.mesh_senders.size(0), ew, K);
+  std::vector<double> set_edges{double(g.mesh_senders.size(0))};
+  for (const GraphEdges& set : g.coarse) set_edges.push_back(double(set.senders.size(0)));
+  torch::Tensor level;  // the higher level of each world edge's two ends (its garment vertex's)
+  if (ew > 0)
+    level = torch::maximum(g.vertex_level.index_select(0, g.world_senders),
+                           g.vertex_level.index_select(0, g.world_receivers));
+  double flops = 0;
+  for (const auto& block : hood_blocks) {
+    const int finest = block->finest_set();
+    const double kept = ew == 0 ? 0.0 : finest == 0 ? double(ew) : (level >= finest).sum().item<double>();
+    flops += block->matmul_flops(double(g.num_nodes()), set_edges, kept);
+  }
+  return flops;
+}
+
 void save_model(Pb4uNet& model, const std::string& path) {
   const std::string temp = temp_path_for(path);
   try {

@@ -139,5 +139,36 @@ TEST(HoodNet, SavesLoadsBatchesStepsAndEveryReadPartLearns) {
   }
 }
 
+// HOOD's blocks on the graph's own counts: block 1 ("f,c0") reads the mesh edges, coarse level
+// 0 and every world edge; block 2 ("c1") coarse level 1 and the world edges whose garment
+// vertex is in level 1 (vertex level 2 or more). Per edge MLP as MGN's; the node MLP has a part
+// per set plus the node and the world sum.
+TEST(HoodNet, MessagePassingFlopsCountTheCoarseAndKeptWorldEdges) {
+  ModelConfig c = tiny_config("hood");
+  c.mlp_hidden_layers = 3;
+  Pb4uNet net(c);
+  auto s = tiny_scene(45);
+  // The body moved under the garment's last row (level 2): body vertices under garment (1, 1),
+  // (1, 4), (4, 1), (4, 4).
+  const auto shift = torch::tensor({-0.05, 0.0, -0.05}, torch::kFloat64);
+  s.state.body.vertices = s.state.body.vertices + shift;
+  s.state.body.next_vertices = s.state.body.next_vertices + shift;
+  GarmentTopology t = build_garment_topology(s.rest);
+  GraphBatch g = build_graph(s.state, t, c.graph_options());
+  const double H = c.latent, L = c.mlp_hidden_layers, n = double(g.num_nodes());
+  const double Em = double(g.mesh_senders.size(0)), E0 = double(g.coarse[0].senders.size(0)),
+               E1 = double(g.coarse[1].senders.size(0)), Ew = double(g.num_world_edges());
+  auto level = torch::maximum(g.vertex_level.index_select(0, g.world_senders), g.vertex_level.index_select(0, g.world_receivers));
+  const double Ew1 = (level >= 2).sum().item<double>();
+  ASSERT_GT(Ew1, 0);
+  ASSERT_LT(Ew1, Ew);
+  auto edge_mlp = [&](double E) { return 4.0 * n * H * H + 2.0 * E * H * H + 2.0 * E * H * H * L; };
+  auto node_mlp = [&](double parts) { return 2.0 * parts * n * H * H + 2.0 * n * H * H * L; };
+  const double expected = edge_mlp(Em) + edge_mlp(E0) + edge_mlp(Ew) + node_mlp(4) +  // block 1
+                          edge_mlp(E1) + edge_mlp(Ew1) + node_mlp(3);                  // block 2
+  EXPECT_DOUBLE_EQ(net->message_passing_flops(g, 0), expected);
+  EXPECT_TRUE(std::isnan(net->message_passing_flops(int64_t(n), int64_t(Em), int64_t(Ew), 0)));
+}
+
 }  // namespace
 }  // namespace pb4u

@@ -38,6 +38,10 @@ struct HoodBlockImpl : torch::nn::Module {
   // those whose garment vertex's level is at least this.
   int finest_set() const;
 
+  // Matmul FLOPs of forward() on n nodes, `set_edges[s]` edges in garment set s (all sets,
+  // index as HoodLatents::edge_sets) and `world_kept` world edges.
+  double matmul_flops(double n, const std::vector<double>& set_edges, double world_kept) const;
+
   std::vector<int> sets;
   std::vector<MLP> set_edge;  // per entry of `sets`
   MLP world_edge{nullptr}, node{nullptr};

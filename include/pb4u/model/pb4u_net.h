@@ -56,8 +56,10 @@ struct Pb4uNetImpl : torch::nn::Module {
   // Matmul FLOPs of the message passing of one forward (propagation, update and blocks; not
   // the encoders or the decoder) on a graph of `nodes` nodes, `mesh_edges` and `world_edges`
   // edges, with K propagation steps: the benchmark's measure of work per frame. NaN for hood
-  // (its coarse edges are not among the counts).
+  // (its coarse edges are not among the counts: the overload below has them).
   double message_passing_flops(int64_t nodes, int64_t mesh_edges, int64_t world_edges, int64_t K) const;
+  // The same on the graph itself: also counts hood's coarse edges and kept world edges.
+  double message_passing_flops(const GraphBatch& graph, int64_t K) const;
 
   ModelConfig config;
   OnlineNormalizer vertex_normalizer{nullptr}, mesh_normalizer{nullptr}, world_normalizer{nullptr};
