@@ -72,7 +72,7 @@ EnergyReport mean_report(const std::vector<EnergyReport>& reports) {
 }
 
 bool is_positive_term(const std::string& name) {
-  return name == "stretch" || name == "bending" || name == "collision";
+  return name == "stretch" || name == "bending" || name == "collision" || name == "repulsion";
 }
 
 double positive_energy(const EnergyReport& report) {

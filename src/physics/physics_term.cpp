@@ -5,6 +5,7 @@
 #include "pb4u/physics/friction_energy.h"
 #include "pb4u/physics/gravity_energy.h"
 #include "pb4u/physics/inertia_energy.h"
+#include "pb4u/physics/repulsion_energy.h"
 #include "pb4u/physics/stretch_energy.h"
 #include "pb4u/util/error.h"
 
@@ -20,6 +21,7 @@ TermList build_terms(const Effects& effects, const PhysicsConfig& config, double
   terms.push_back(std::make_unique<InertiaTerm>());
   if (effects.gravity) terms.push_back(std::make_unique<GravityTerm>());
   if (effects.friction) terms.push_back(std::make_unique<FrictionTerm>(config.friction));
+  if (effects.self_collision) terms.push_back(std::make_unique<RepulsionTerm>(config.repulsion));
   return terms;
 }
 

@@ -43,7 +43,7 @@ EnergyReport energy_report(const TermList& terms, const torch::Tensor& x_next,
 // reports must list the same terms; throws pb4u::Error otherwise or when empty.
 EnergyReport mean_report(const std::vector<EnergyReport>& reports);
 
-// Positive energy (J): stretch + bending + collision, those the report has. SPEC 9's
+// Positive energy (J): stretch + bending + collision (+ repulsion), those the report has. SPEC 9's
 // stability figure: the terms that grow without bound when a rollout blows up (gravity and
 // inertia do not measure a broken cloth).
 double positive_energy(const EnergyReport& report);

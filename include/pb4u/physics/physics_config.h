@@ -50,6 +50,22 @@ struct FrictionConfig {
 };
 
 // Reference solver (SPEC 8): L-BFGS on the per-frame energy with a backtracking line search.
+// ContourCraft's cloth repulsion (physics/repulsion_energy.h), its stage-1 settings.
+struct RepulsionConfig {
+  double weight = 2e6;         // J/m^3 (ContourCraft ramps 0 -> 2e6 over training steps 30000-40000)
+  double eps = 3e-3;           // m: the penalty acts closer than this to the face's plane
+  double radius = 1e-2;        // m: a vertex within this of a face's plane at t, over the face, is a pair
+  double pinned_factor = 100;  // a pair with a pinned vertex weighs this much more (before the cube)
+
+  template <class V>
+  void visit(V& v) {
+    v("weight", weight, non_negative());
+    v("eps", eps, positive());
+    v("radius", radius, positive());
+    v("pinned_factor", pinned_factor, positive());
+  }
+};
+
 struct ReferenceSolverConfig {
   int max_iterations = 200;  // iteration budget per frame
   // m: converged when the quasi-Newton step max_i |(H^-1 dE/dx)_i| (the energy gradient in the
@@ -103,6 +119,7 @@ struct ReferenceSolverConfig {
 struct PhysicsConfig {
   CollisionConfig collision;
   FrictionConfig friction;
+  RepulsionConfig repulsion;
   ReferenceSolverConfig solver;
   // m^2: a face whose doubled area is below this counts as degenerate; its normal is not
   // normalised and hinges touching it bend by 0 (keeps sqrt / atan2 gradients finite).
@@ -112,6 +129,7 @@ struct PhysicsConfig {
   void visit(V& v) {
     v("collision", collision);
     v("friction", friction);
+    v("repulsion", repulsion);
     v("solver", solver);
     v("degenerate_area", degenerate_area, positive());
   }

@@ -19,7 +19,7 @@ struct BodyContact;
 class PhysicsTerm {
  public:
   virtual ~PhysicsTerm() = default;
-  // "stretch", "bending", "collision", "inertia", "gravity" or "friction".
+  // "stretch", "bending", "collision", "inertia", "gravity", "friction" or "repulsion".
   virtual std::string name() const = 0;
   // Energy (J, 0-dim tensor of x_next's dtype, differentiable in x_next) of the predicted
   // positions x_next (n, 3) m, under state.material. contact: the step's body contact; terms
@@ -38,8 +38,9 @@ class PhysicsTerm {
 
 using TermList = std::vector<std::unique_ptr<PhysicsTerm>>;
 
-// The active terms in Table-1 order (stretch, bending, collision, inertia, gravity, friction):
-// stretch, bending and inertia always; gravity / collision / friction only if the effect is on.
+// The active terms in Table-1 order (stretch, bending, collision, inertia, gravity, friction),
+// then repulsion: stretch, bending and inertia always; gravity / collision / friction /
+// repulsion (effect self_collision) only if the effect is on.
 // collision_weight (J/m^3): < 0 means the final weight config.collision.weight_end (evaluation);
 // training passes collision_weight(config.collision, step).
 TermList build_terms(const Effects& effects, const PhysicsConfig& config,

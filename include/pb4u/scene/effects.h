@@ -11,6 +11,9 @@ struct Effects {
   bool collision = true;  // needs a body
   bool friction = true;   // needs a body
   bool pins = false;
+  // Cloth against itself: ContourCraft's repulsion term (physics/repulsion_energy.h). Not a
+  // network input: the networks' four effect flags are the four above.
+  bool self_collision = false;
 
   bool needs_body() const { return collision || friction; }
 
