@@ -3,6 +3,7 @@
 #include <cmath>
 #include <vector>
 
+#include "pb4u/graph/cloth_edges.h"
 #include "pb4u/graph/features.h"
 #include "pb4u/graph/world_edges.h"
 #include "pb4u/util/error.h"
@@ -87,7 +88,13 @@ GraphBatch build_graph(const FrameState& state, const GarmentTopology& topology,
     const GarmentEdgeSet& set = topology.coarse[static_cast<size_t>(level)];
     g.coarse.push_back({set.senders, set.receivers, edge_set_features(x, set), set.sender_rows, set.receiver_rows});
   }
-  if (options.coarse_levels > 0) g.vertex_level = topology.vertex_level;
+  // A model of fewer levels sees a vertex of a coarser one at its own coarsest.
+  const torch::Tensor garment_level = topology.vertex_level.defined()
+                                          ? topology.vertex_level.clamp_max(options.coarse_levels)
+                                          : torch::Tensor();
+  if (options.coarse_levels > 0) g.vertex_level = garment_level;
+  if (options.cloth_edge_radius > 0)
+    g.cloth_edges = build_cloth_edges(x, x + v * state.dt, topology.faces, options.cloth_edge_radius, n);
   if (!state.effects.needs_body() || !state.body.defined()) return g;
 
   const BodyFrame& body = state.body;
@@ -127,7 +134,7 @@ GraphBatch build_graph(const FrameState& state, const GarmentTopology& topology,
                                 torch::zeros({nu, 1}, x.options()), scene.expand({nu, scene.size(0)})}, 1);
   g.node_features = torch::cat({garment, body_nodes}, 0);
   g.body_vertex_index = used_t;
-  if (options.coarse_levels > 0) g.vertex_level = torch::cat({topology.vertex_level, torch::zeros({nu}, index_options)});
+  if (options.coarse_levels > 0) g.vertex_level = torch::cat({garment_level, torch::zeros({nu}, index_options)});
 
   auto garment_node = pairs.select(1, 0).contiguous().to(dev);
   g.world_senders = torch::cat({body_node, garment_node});

@@ -11,7 +11,8 @@ GraphBatch concat_graphs(const std::vector<GraphBatch>& graphs) {
   for (const auto& g : graphs) total_garment += g.num_garment_nodes;
 
   std::vector<torch::Tensor> garment_nodes, body_nodes, ms, mr, mf, ws, wr, wf, body_index, scale;
-  std::vector<torch::Tensor> garment_levels, body_levels;
+  std::vector<torch::Tensor> garment_levels, body_levels, cloth_s, cloth_r, cloth_f;
+  const bool cloth = graphs[0].cloth_edges.senders.defined();
   const size_t levels = graphs[0].coarse.size();
   std::vector<std::vector<torch::Tensor>> cs(levels), cr(levels), cf(levels);
   int64_t garment_offset = 0, body_offset = total_garment;
@@ -36,6 +37,12 @@ GraphBatch concat_graphs(const std::vector<GraphBatch>& graphs) {
       cs[l].push_back(g.coarse[l].senders + garment_offset);
       cr[l].push_back(g.coarse[l].receivers + garment_offset);
       cf[l].push_back(g.coarse[l].features);
+    }
+    if (g.cloth_edges.senders.defined() != cloth) throw Error("concat_graphs: graphs with and without cloth edges");
+    if (cloth) {
+      cloth_s.push_back(g.cloth_edges.senders + garment_offset);
+      cloth_r.push_back(g.cloth_edges.receivers + garment_offset);
+      cloth_f.push_back(g.cloth_edges.features);
     }
     if (levels > 0) {
       garment_levels.push_back(g.vertex_level.narrow(0, 0, n));
@@ -67,6 +74,11 @@ GraphBatch concat_graphs(const std::vector<GraphBatch>& graphs) {
     set.sender_rows = group_rows(set.senders, out.num_garment_nodes);
     set.receiver_rows = group_rows(set.receivers, out.num_garment_nodes);
     out.coarse.push_back(set);
+  }
+  if (cloth) {
+    out.cloth_edges = {torch::cat(cloth_s), torch::cat(cloth_r), torch::cat(cloth_f, 0), {}, {}};
+    out.cloth_edges.sender_rows = group_rows(out.cloth_edges.senders, out.num_garment_nodes);
+    out.cloth_edges.receiver_rows = group_rows(out.cloth_edges.receivers, out.num_garment_nodes);
   }
   if (levels > 0) {
     garment_levels.insert(garment_levels.end(), body_levels.begin(), body_levels.end());

@@ -155,9 +155,10 @@ void export_model_file(const ModelFile& model, const std::string& out) {
 namespace {
 
 std::string network_name(const ModelConfig& config) {
-  // The paper's MGN and HOOD are fixed-depth and unscaled; with update scaling on each is
+  // The paper's MGN, HOOD and CCRAFT are fixed-depth and unscaled; with update scaling on each is
   // another model.
   if (config.is_hood()) return config.update_scaling_on() ? "HOOD w/ US" : "HOOD";
+  if (config.is_ccraft()) return config.update_scaling_on() ? "CCRAFT w/ US" : "CCRAFT";
   if (!config.is_pb4u()) return config.update_scaling_on() ? "MGN w/ US" : "MGN";
   const bool pc = config.propagation_control_on(), us = config.update_scaling_on();
   if (pc && us) return "Pb4U";

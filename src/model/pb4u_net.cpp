@@ -44,22 +44,28 @@ Pb4uNetImpl::Pb4uNetImpl(const ModelConfig& c) : config(c) {
   auto encoder = [&](const char* name, int64_t dim) {
     return register_module(name, MLP(std::vector<int64_t>{dim}, H, H, L, true));
   };
-  vertex_encoder = encoder("vertex_encoder", kVertexFeatureDim + (config.is_hood() ? kLevelEmbeddingDim : 0));
+  vertex_encoder = encoder("vertex_encoder", kVertexFeatureDim + (config.is_hierarchical() ? kLevelEmbeddingDim : 0));
   mesh_encoder = encoder("mesh_encoder", kMeshEdgeFeatureDim);
   world_encoder = encoder("world_encoder", world_dim);
   if (config.is_pb4u()) {
     propagation = register_module("propagation", DecayedPropagation(H, L, config.gamma));
     update = register_module("update", MLP(std::vector<int64_t>{H, H}, H, H, L, true));
   }
-  if (config.is_hood()) {
+  if (config.is_hierarchical()) {
     // HOOD's nn.Embedding(levels + 1, 4) starts from N(0, 1) rows.
-    level_embedding = register_parameter("level_embedding", torch::randn({kCoarseLevels + 1, kLevelEmbeddingDim}));
-    for (int l = 0; l < kCoarseLevels; ++l)
+    const int levels = config.coarse_levels();
+    level_embedding = register_parameter("level_embedding", torch::randn({levels + 1, kLevelEmbeddingDim}));
+    for (int l = 0; l < levels; ++l)
       coarse_encoders.push_back(register_module("coarse" + std::to_string(l) + "_encoder",
                                                 MLP(std::vector<int64_t>{kMeshEdgeFeatureDim}, H, H, L, true)));
-    const auto schedule = parse_hood_schedule(config.hood_schedule, kCoarseLevels);
+    if (config.is_ccraft()) {
+      cloth_normalizer = normalizer("cloth_normalizer", kClothEdgeFeatureDim);
+      cloth_encoder = encoder("cloth_encoder", kClothEdgeFeatureDim);
+    }
+    const auto schedule = parse_hood_schedule(config.schedule(), levels);
     for (size_t b = 0; b < schedule.size(); ++b)
-      hood_blocks.push_back(register_module("block" + std::to_string(b), HoodBlock(schedule[b], H, L)));
+      hood_blocks.push_back(
+          register_module("block" + std::to_string(b), HoodBlock(schedule[b], H, L, config.is_ccraft())));
   } else {
     for (int b = 0; b < config.num_blocks; ++b)
       blocks.push_back(register_module("block" + std::to_string(b), GraphNetBlock(H, L)));
@@ -88,9 +94,11 @@ torch::Tensor Pb4uNetImpl::forward(const GraphBatch& g, int64_t K, StageTimes* t
   const int64_t H = config.latent;
   LatentGraph latent;
   torch::Tensor vertex_in = vertex_normalizer(g.node_features);
-  if (config.is_hood()) {
-    if (!g.vertex_level.defined() || static_cast<int>(g.coarse.size()) != kCoarseLevels)
-      throw Error("hood model: the graph has no coarse levels (build it with the model's graph options)");
+  if (config.is_hierarchical()) {
+    if (!g.vertex_level.defined() || static_cast<int>(g.coarse.size()) != config.coarse_levels() ||
+        (config.is_ccraft() && !g.cloth_edges.senders.defined()))
+      throw Error(config.kind + " model: the graph lacks its coarse levels or cloth edges (build it with the model's "
+                  "graph options)");
     // nn.Embedding's max_norm: rows longer than 1 scaled back to 1.
     auto scale = level_embedding.norm(2, 1, true).clamp_min(1.0).reciprocal();
     vertex_in = torch::cat({vertex_in, (level_embedding * scale).index_select(0, g.vertex_level)}, 1);
@@ -113,7 +121,7 @@ torch::Tensor Pb4uNetImpl::forward(const GraphBatch& g, int64_t K, StageTimes* t
     latent.nodes = update->forward({latent.nodes, h});
   }
   clock.lap(times ? &times->propagate : nullptr);
-  if (config.is_hood()) {
+  if (config.is_hierarchical()) {
     latent.nodes = hood_blocks_forward(g, latent.nodes, latent.mesh_edges, latent.world_edges, ms, mr, ws, wr);
   } else {
     for (auto& block : blocks)
@@ -134,14 +142,22 @@ torch::Tensor Pb4uNetImpl::forward(const GraphBatch& g, int64_t K, StageTimes* t
 torch::Tensor Pb4uNetImpl::hood_blocks_forward(const GraphBatch& g, torch::Tensor nodes, torch::Tensor mesh_edges,
                                                torch::Tensor world_edges, const RowIndex& ms, const RowIndex& mr,
                                                const RowIndex& ws, const RowIndex& wr) {
-  HoodLatents latent{std::move(nodes), {std::move(mesh_edges)}, std::move(world_edges)};
+  HoodLatents latent{std::move(nodes), {std::move(mesh_edges)}, std::move(world_edges), {}};
   HoodIndices full;
   full.senders = {ms};
   full.receivers = {mr};
-  std::vector<bool> used(kCoarseLevels + 1, false);
+  const int levels = config.coarse_levels();
+  if (config.is_ccraft()) {
+    const GraphEdges& cloth = g.cloth_edges;
+    latent.cloth_edges = cloth.senders.size(0) > 0 ? cloth_encoder->forward({cloth_normalizer(cloth.features)})
+                                                   : torch::zeros({0, config.latent}, latent.nodes.options());
+    full.cloth_senders = cloth.sender_rows.index.defined() ? cloth.sender_rows : RowIndex(cloth.senders);
+    full.cloth_receivers = cloth.receiver_rows.index.defined() ? cloth.receiver_rows : RowIndex(cloth.receivers);
+  }
+  std::vector<bool> used(levels + 1, false);
   for (auto& block : hood_blocks)
     for (int s : block->sets) used[static_cast<size_t>(s)] = true;
-  for (int l = 0; l < kCoarseLevels; ++l) {
+  for (int l = 0; l < levels; ++l) {
     const GraphEdges& set = g.coarse[static_cast<size_t>(l)];
     // A level no block reads (HOOD's schedule never reads c2) is not encoded.
     latent.edge_sets.push_back(used[static_cast<size_t>(l) + 1]
@@ -153,12 +169,14 @@ torch::Tensor Pb4uNetImpl::hood_blocks_forward(const GraphBatch& g, torch::Tenso
   // The world edges each block keeps, by its finest set: all for the mesh edges, else those
   // whose garment vertex (the end of higher level: a body node's is 0) is in that level.
   const int64_t n = g.num_nodes();
-  std::vector<HoodIndices> by_finest(kCoarseLevels + 1);
+  std::vector<HoodIndices> by_finest(levels + 1);
   auto indices_for = [&](int finest) -> const HoodIndices& {
     HoodIndices& ix = by_finest[static_cast<size_t>(finest)];
     if (ix.senders.empty()) {
       ix.senders = full.senders;
       ix.receivers = full.receivers;
+      ix.cloth_senders = full.cloth_senders;
+      ix.cloth_receivers = full.cloth_receivers;
       const int64_t ew = g.num_world_edges();
       if (finest == 0 || ew == 0) {
         ix.world_kept = torch::arange(ew, g.world_senders.options());
@@ -194,7 +212,7 @@ void Pb4uNetImpl::set_split_first_layer(bool split) {
 double Pb4uNetImpl::message_passing_flops(int64_t nodes, int64_t mesh_edges, int64_t world_edges,
                                           int64_t K) const {
   const double n = double(nodes), Em = double(mesh_edges), Ew = double(world_edges);
-  if (config.is_hood()) return std::numeric_limits<double>::quiet_NaN();
+  if (config.is_hierarchical()) return std::numeric_limits<double>::quiet_NaN();
   double flops = 0;
   if (propagation) {
     flops += propagation->matmul_flops(n, Em, K);
@@ -206,7 +224,7 @@ double Pb4uNetImpl::message_passing_flops(int64_t nodes, int64_t mesh_edges, int
 
 double Pb4uNetImpl::message_passing_flops(const GraphBatch& g, int64_t K) const {
   const int64_t ew = g.num_world_edges();
-  if (!config.is_hood()) return message_passing_flops(g.num_nodes(), g.mesh_senders.size(0), ew, K);
+  if (!config.is_hierarchical()) return message_passing_flops(g.num_nodes(), g.mesh_senders.size(0), ew, K);
   std::vector<double> set_edges{double(g.mesh_senders.size(0))};
   for (const GraphEdges& set : g.coarse) set_edges.push_back(double(set.senders.size(0)));
   torch::Tensor level;  // the higher level of each world edge's two ends (its garment vertex's)
@@ -217,7 +235,8 @@ double Pb4uNetImpl::message_passing_flops(const GraphBatch& g, int64_t K) const 
   for (const auto& block : hood_blocks) {
     const int finest = block->finest_set();
     const double kept = ew == 0 ? 0.0 : finest == 0 ? double(ew) : (level >= finest).sum().item<double>();
-    flops += block->matmul_flops(double(g.num_nodes()), set_edges, kept);
+    const double cloth = g.cloth_edges.senders.defined() ? double(g.cloth_edges.senders.size(0)) : 0.0;
+    flops += block->matmul_flops(double(g.num_nodes()), set_edges, kept, cloth);
   }
   return flops;
 }

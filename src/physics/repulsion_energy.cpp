@@ -1,9 +1,8 @@
 #include "pb4u/physics/repulsion_energy.h"
 
-#include <Eigen/Geometry>
 #include <vector>
 
-#include "pb4u/physics/contact_candidates.h"
+#include "pb4u/spatial/points_over_faces.h"
 
 namespace pb4u {
 
@@ -36,29 +35,16 @@ RepulsionPairs repulsion_pairs(const torch::Tensor& x, const torch::Tensor& face
     auto p = pinned.to(torch::kCPU, torch::kBool).contiguous();
     for (int64_t i = 0; i < p.size(0); ++i) is_pinned[static_cast<size_t>(i)] = p.data_ptr<bool>()[i];
   }
-  // The broad phase of intersection-free contact, with the cloth as the surface.
-  ContactCandidates candidates = contact_candidates(V, Eigen::MatrixXd(), Eigen::MatrixXi(0, 2),
-                                                    make_contact_surface(V, F), Eigen::MatrixXd(), radius);
   std::vector<int64_t> vertex, face;
   std::vector<double> side, factor;
-  for (const auto& [v, f] : candidates.vertex_face) {
-    const int a = F(f, 0), b = F(f, 1), c = F(f, 2);
-    if (v == a || v == b || v == c) continue;
-    const Eigen::Vector3d e1 = V.row(b) - V.row(a), e2 = V.row(c) - V.row(a), p = V.row(v) - V.row(a);
-    const Eigen::Vector3d n = e1.cross(e2);
-    const double n2 = n.squaredNorm();
-    if (!(n2 > 0)) continue;  // a degenerate face has no plane
-    const double d = p.dot(n) / std::sqrt(n2);
-    if (std::abs(d) >= radius) continue;
-    // Barycentric coordinates of the projection: inside the face or no pair.
-    const double d11 = e1.dot(e1), d12 = e1.dot(e2), d22 = e2.dot(e2), p1 = p.dot(e1), p2 = p.dot(e2);
-    const double den = d11 * d22 - d12 * d12;
-    const double beta = (d22 * p1 - d12 * p2) / den, gamma = (d11 * p2 - d12 * p1) / den;
-    if (beta < 0 || gamma < 0 || beta + gamma > 1) continue;
+  for (const PointOverFace& pair : points_over_faces(V, V, F, radius, true)) {
+    const int v = pair.point, f = pair.face;
     vertex.push_back(v);
     face.push_back(f);
-    side.push_back(d >= 0 ? 1.0 : -1.0);
-    factor.push_back(is_pinned[v] || is_pinned[a] || is_pinned[b] || is_pinned[c] ? pinned_factor : 1.0);
+    side.push_back(pair.distance >= 0 ? 1.0 : -1.0);
+    const bool pin = is_pinned[static_cast<size_t>(v)] || is_pinned[static_cast<size_t>(F(f, 0))] ||
+                     is_pinned[static_cast<size_t>(F(f, 1))] || is_pinned[static_cast<size_t>(F(f, 2))];
+    factor.push_back(pin ? pinned_factor : 1.0);
   }
   const auto index = torch::TensorOptions().dtype(torch::kInt64);
   const auto real = torch::TensorOptions().dtype(torch::kFloat64);

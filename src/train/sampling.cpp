@@ -47,6 +47,7 @@ Effects sample_effects(const EffectSampling& s, std::mt19937_64& rng) {
   e.collision = body;
   e.friction = body && u(rng) < s.p_friction;
   e.pins = s.p_pins > 0 && u(rng) < s.p_pins;
+  e.self_collision = s.p_self_collision > 0 && u(rng) < s.p_self_collision;
   return e;
 }
 

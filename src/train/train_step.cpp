@@ -284,7 +284,7 @@ StepResult Trainer::train_step() {
     total[1] += 1;
     for (const auto& [name, value] : s.terms) {
       const auto k = std::find(term_names_.begin(), term_names_.end(), name) - term_names_.begin();
-      if (k == n_terms) throw Error("training: term '" + name + "' is not one of the six physics terms");
+      if (k == n_terms) throw Error("training: term '" + name + "' is not one of the physics terms");
       total[2 + k] += value;
       total[2 + n_terms + k] += 1;
     }

@@ -66,7 +66,7 @@ Trainer::Trainer(TrainConfig config, std::string config_yaml, TrainingData data,
   optimizer_ = std::make_unique<torch::optim::Adam>(model_->parameters(),
                                                     torch::optim::AdamOptions(config_.optim.lr));
   Effects every_effect;
-  every_effect.gravity = every_effect.collision = every_effect.friction = true;
+  every_effect.gravity = every_effect.collision = every_effect.friction = every_effect.self_collision = true;
   term_names_ = term_names(build_terms(every_effect, config_.physics));
   start_group(resume);
 }

@@ -16,7 +16,10 @@ using test::tiny_config;
 using test::tiny_scene;
 
 TEST(HoodSchedule, HoodsOwnIsAUOverTheMeshAndTwoCoarseLevels) {
-  const auto blocks = parse_hood_schedule(ModelConfig{}.hood_schedule, kCoarseLevels);
+  ModelConfig hood;
+  hood.kind = "hood";
+  EXPECT_EQ(hood.schedule(), kHoodSchedule);  // an empty hood_schedule is the kind's own
+  const auto blocks = parse_hood_schedule(hood.schedule(), kHoodCoarseLevels);
   ASSERT_EQ(blocks.size(), 15u);
   const std::vector<std::vector<int>> expected{{0, 1}, {1, 2}, {2}, {1, 2}, {0, 1}};  // f,c0 | c0,c1 | c1 | ...
   for (size_t b = 0; b < 15; ++b) EXPECT_EQ(blocks[b], expected[b / 3]) << "block " << b + 1;
@@ -49,7 +52,7 @@ TEST(HoodGraph, CarriesTheCoarseSetsAndEachNodesLevel) {
   GraphBatch plain = build_graph(s.state, t, tiny_config("pb4u").graph_options());
   EXPECT_TRUE(plain.coarse.empty());
   GraphBatch g = build_graph(s.state, t, tiny_config("hood").graph_options());
-  ASSERT_EQ(g.coarse.size(), static_cast<size_t>(kCoarseLevels));
+  ASSERT_EQ(g.coarse.size(), static_cast<size_t>(kHoodCoarseLevels));
   ASSERT_GT(g.num_world_edges(), 0);
   // The tiny garment is the 5 x 5 grid of the coarse-level test: 22 and 9 edges, both ways.
   EXPECT_EQ(g.coarse[0].senders.size(0), 44);
@@ -168,6 +171,75 @@ TEST(HoodNet, MessagePassingFlopsCountTheCoarseAndKeptWorldEdges) {
                           edge_mlp(E1) + edge_mlp(Ew1) + node_mlp(3);                  // block 2
   EXPECT_DOUBLE_EQ(net->message_passing_flops(g, 0), expected);
   EXPECT_TRUE(std::isnan(net->message_passing_flops(int64_t(n), int64_t(Em), int64_t(Ew), 0)));
+}
+
+// ContourCraft's stage 1: its own schedule is 15 flat blocks on f and c3.
+TEST(CcraftSchedule, FifteenFlatBlocksOnTheMeshAndTheCoarsestLevel) {
+  ModelConfig c;
+  c.kind = "ccraft";
+  const auto blocks = parse_hood_schedule(c.schedule(), c.coarse_levels());
+  ASSERT_EQ(blocks.size(), 15u);
+  for (const auto& b : blocks) EXPECT_EQ(b, (std::vector<int>{0, 4}));
+  EXPECT_EQ(c.graph_options().coarse_levels, 4);
+  EXPECT_DOUBLE_EQ(c.graph_options().cloth_edge_radius, 0.03);
+  c.kind = "hood";
+  EXPECT_THROW(parse_hood_schedule("f,c3", c.coarse_levels()), Error);  // HOOD has three levels
+}
+
+// The tiny garment (5 cm cells) folded: its last row moved 7 cm back and 1 cm up, over the
+// cells between rows 2 and 3. Cloth edges join vertices to the nearest vertex of faces of the
+// same cloth they lie over, from row 2 on, and nothing while the cloth lies flat.
+TEST(ClothEdges, JoinClothLyingOverItsOwnFacesAndNothingElse) {
+  auto s = tiny_scene(46);
+  s.state.x = test::to_tensor(s.rest.V);
+  s.state.x_prev = s.state.x.clone();
+  ModelConfig c = tiny_config("ccraft");
+  GarmentTopology t = build_garment_topology(s.rest);
+  GraphBatch flat = build_graph(s.state, t, c.graph_options());
+  ASSERT_TRUE(flat.cloth_edges.senders.defined());
+  EXPECT_EQ(flat.cloth_edges.senders.size(0), 0);
+  for (int64_t j = 0; j < 5; ++j) {  // row 4: vertices 20-24
+    s.state.x[20 + j][1] = s.state.x[20 + j][1] + 0.01;
+    s.state.x[20 + j][2] = s.state.x[20 + j][2] - 0.07;
+  }
+  s.state.x_prev = s.state.x.clone();
+  GraphBatch g = build_graph(s.state, t, c.graph_options());
+  ASSERT_GT(g.cloth_edges.senders.size(0), 0);
+  EXPECT_GT((g.cloth_edges.senders >= 20).sum().item<int64_t>(), 0);  // the moved row over rows 2-3
+  EXPECT_EQ(g.cloth_edges.features.size(1), kClothEdgeFeatureDim);
+  auto x = s.state.x.to(torch::kFloat32);
+  for (int64_t e = 0; e < g.cloth_edges.senders.size(0); ++e) {
+    const int64_t a = g.cloth_edges.senders[e].item<int64_t>(), b = g.cloth_edges.receivers[e].item<int64_t>();
+    EXPECT_TRUE(a >= 10 && b >= 10) << a << "-" << b;
+    auto f = g.cloth_edges.features[e];
+    EXPECT_TRUE(torch::allclose(f.narrow(0, 0, 3), x[b] - x[a], 1e-5, 1e-6));
+    EXPECT_LT(f[11].item<double>(), 0.03);  // |d| within the radius
+  }
+}
+
+TEST(CcraftNet, SavesLoadsBatchesAndSteps) {
+  ModelConfig c = tiny_config("ccraft");
+  c.hood_schedule = "f,c3|f,c3";
+  Pb4uNet model = test::warmed_model(c, 47);
+  EXPECT_TRUE(model->cloth_encoder);
+  auto s = tiny_scene(48, true);
+  GarmentTopology t = build_garment_topology(s.rest);
+  GraphBatch g = build_graph(s.state, t, c.graph_options());
+  torch::NoGradGuard no_grad;
+  auto a = model->forward(g, 0);
+  EXPECT_TRUE(torch::isfinite(a).all().item<bool>());
+  const std::string path = test::temp_dir("ccraft") + "/ccraft.pt";
+  save_model(model, path);
+  Pb4uNet loaded = load_model(path, c);
+  loaded->eval();
+  EXPECT_TRUE(torch::equal(loaded->forward(g, 0), a));
+  auto b = tiny_scene(49);
+  GraphBatch gb = build_graph(b.state, t, c.graph_options());
+  EXPECT_TRUE(torch::allclose(model->forward(concat_graphs({g, gb}), 0), torch::cat({a, model->forward(gb, 0)}), 1e-5,
+                              1e-5));
+  EXPECT_TRUE(std::isfinite(model->message_passing_flops(g, 0)));
+  auto x_next = model->step(s.state, t);
+  EXPECT_TRUE(torch::equal(x_next.narrow(0, 0, 5), s.state.pin_targets.narrow(0, 0, 5)));
 }
 
 }  // namespace

@@ -21,7 +21,7 @@ constexpr int64_t kWorldEdgeNormalDistanceDim = 2;
 // One set of garment edges in a graph: garment node ids, its features, its grouped indices.
 struct GraphEdges {
   torch::Tensor senders, receivers;  // (E) int64
-  torch::Tensor features;            // (E, 7) float, as the mesh edges'
+  torch::Tensor features;            // (E, 7) float, as the mesh edges' (cloth edges: their own)
   RowIndex sender_rows, receiver_rows;
 };
 
@@ -42,6 +42,9 @@ struct GraphBatch {
   // finest first, and every node's level (0 for body nodes; graph/garment_topology.h).
   std::vector<GraphEdges> coarse;
   torch::Tensor vertex_level;                    // (nodes) int64
+  // With GraphOptions::cloth_edge_radius > 0 (ccraft): cloth-to-cloth edges
+  // (graph/cloth_edges.h), features (E, kClothEdgeFeatureDim); else undefined.
+  GraphEdges cloth_edges;
 
   int64_t num_nodes() const { return node_features.size(0); }
   int64_t num_world_edges() const { return world_senders.defined() ? world_senders.size(0) : 0; }

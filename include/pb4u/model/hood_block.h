@@ -20,6 +20,7 @@ struct HoodLatents {
   torch::Tensor nodes;                   // (nodes, H)
   std::vector<torch::Tensor> edge_sets;  // (E_s, H)
   torch::Tensor world_edges;             // (Ew, H)
+  torch::Tensor cloth_edges;             // (Ec, H): ccraft's cloth-to-cloth edges, else undefined
 };
 
 // The indices a block reads: per garment edge set, and the world edges it keeps.
@@ -27,10 +28,13 @@ struct HoodIndices {
   std::vector<RowIndex> senders, receivers;  // per garment edge set
   RowIndex world_senders, world_receivers;   // the kept world edges
   torch::Tensor world_kept;                  // (Ew') int64: which world edges those are
+  RowIndex cloth_senders, cloth_receivers;   // ccraft's cloth edges (all of them, every block)
 };
 
 struct HoodBlockImpl : torch::nn::Module {
-  HoodBlockImpl(std::vector<int> sets, int64_t latent, int hidden_layers);
+  // cloth_edges: the block also passes messages over ccraft's cloth-to-cloth edges (one more
+  // edge MLP, one more node MLP part).
+  HoodBlockImpl(std::vector<int> sets, int64_t latent, int hidden_layers, bool cloth_edges = false);
 
   HoodLatents forward(const HoodLatents& g, const HoodIndices& ix);
 
@@ -39,12 +43,13 @@ struct HoodBlockImpl : torch::nn::Module {
   int finest_set() const;
 
   // Matmul FLOPs of forward() on n nodes, `set_edges[s]` edges in garment set s (all sets,
-  // index as HoodLatents::edge_sets) and `world_kept` world edges.
-  double matmul_flops(double n, const std::vector<double>& set_edges, double world_kept) const;
+  // index as HoodLatents::edge_sets), `world_kept` world edges and `cloth` cloth edges.
+  double matmul_flops(double n, const std::vector<double>& set_edges, double world_kept, double cloth = 0) const;
 
   std::vector<int> sets;
   std::vector<MLP> set_edge;  // per entry of `sets`
   MLP world_edge{nullptr}, node{nullptr};
+  MLP cloth_edge{nullptr};  // ccraft only
 };
 TORCH_MODULE(HoodBlock);
 

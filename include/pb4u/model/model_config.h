@@ -12,10 +12,12 @@ namespace pb4u {
 
 struct ModelConfig {
   // pb4u | mgn (no propagation: the paper's MGN) | hood (no propagation; HOOD's coarse edge
-  // sets and U-shaped block schedule, model/hood_block.h)
+  // sets and U-shaped block schedule, model/hood_block.h) | ccraft (ContourCraft's stage 1: the
+  // same blocks, flat over the mesh and the coarsest level, with cloth-to-cloth edges)
   std::string kind = "pb4u";
-  // hood: each block's edge sets (model/hood_block.h); num_blocks must match. HOOD's own.
-  std::string hood_schedule = "f,c0|f,c0|f,c0|c0,c1|c0,c1|c0,c1|c1|c1|c1|c0,c1|c0,c1|c0,c1|f,c0|f,c0|f,c0";
+  // hood / ccraft: each block's edge sets (model/hood_block.h); num_blocks must match. Empty:
+  // the kind's own (kHoodSchedule, kContourCraftSchedule).
+  std::string hood_schedule;
   std::string propagation_control = "on";  // on: K = max(1, floor(D / Lbar)); off: K = K_base
   // on: a = s (.) a~ (SPEC 4); off: s = 1; detail: only the acceleration's detail is scaled,
   // a = S(a~) + s (.) (a~ - S(a~)), S smoothing over smooth_distance (update_scaling.h).
@@ -59,16 +61,21 @@ struct ModelConfig {
 
   bool is_pb4u() const { return kind == "pb4u"; }
   bool is_hood() const { return kind == "hood"; }
+  bool is_ccraft() const { return kind == "ccraft"; }
+  // hood and ccraft: the blocks of model/hood_block.h over coarse edge sets.
+  bool is_hierarchical() const { return is_hood() || is_ccraft(); }
+  int coarse_levels() const { return is_hood() ? kHoodCoarseLevels : is_ccraft() ? kCoarseLevels : 0; }
+  std::string schedule() const;  // hood_schedule, or the kind's own when it is empty
   bool propagation_control_on() const { return propagation_control == "on"; }
   bool update_scaling_on() const { return update_scaling != "off"; }
   GraphOptions graph_options() const {
     return {world_edge_radius, world_edges == "nearest", material_ranges, world_normal_distance == "on",
-            is_hood() ? kCoarseLevels : 0};
+            coarse_levels(), is_ccraft() ? 0.03 : 0.0};
   }
 
   template <class V>
   void visit(V& v) {
-    v("kind", kind, one_of({"pb4u", "mgn", "hood"}));
+    v("kind", kind, one_of({"pb4u", "mgn", "hood", "ccraft"}));
     v("hood_schedule", hood_schedule);
     v("propagation_control", propagation_control, one_of({"on", "off"}));
     v("update_scaling", update_scaling, one_of({"on", "off", "detail"}));

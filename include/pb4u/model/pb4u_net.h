@@ -67,11 +67,13 @@ struct Pb4uNetImpl : torch::nn::Module {
   DecayedPropagation propagation{nullptr};  // pb4u only
   MLP update{nullptr};                      // f_u(v, h^K), pb4u only
   std::vector<GraphNetBlock> blocks;
-  // hood only: the level embedding (kCoarseLevels + 1, 4; rows of norm at most 1, appended to
-  // the normalised vertex features), one encoder per coarse edge set, HOOD's blocks.
+  // hood and ccraft: the level embedding (levels + 1, 4; rows of norm at most 1, appended to
+  // the normalised vertex features), one encoder per coarse edge set, the blocks.
   torch::Tensor level_embedding;
   std::vector<MLP> coarse_encoders;
   std::vector<HoodBlock> hood_blocks;
+  OnlineNormalizer cloth_normalizer{nullptr};  // ccraft only: its cloth-to-cloth edges
+  MLP cloth_encoder{nullptr};
   MLP decoder{nullptr};
   torch::Tensor lbar_base, distance;  // () float64 buffers, m
 

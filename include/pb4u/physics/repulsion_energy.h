@@ -4,7 +4,8 @@
 // each cloth vertex on the side of a nearby cloth face that it was on at t.
 //
 // Pairs, found at t: a vertex v and a face f that does not hold v, with v's projection onto
-// f's plane inside f and |d| < radius, d = (x_v - x_f0) . n_f. Energy of x_next:
+// f's plane inside f and |d| < radius, d = (x_v - x_f0) . n_f (spatial/points_over_faces.h).
+// Energy of x_next:
 //   E = weight * sum over pairs (k max(eps - s d', 0))^3,
 // d' the same distance at t + dt (the face moving too), s the side at t (+1 where d >= 0),
 // k = pinned_factor where v or a vertex of f is pinned, else 1. eps and radius in m, weight

@@ -22,12 +22,16 @@ struct EffectSampling {
   // Pinned cloth: with a body the pins follow the garment's skinned motion (a waistband held
   // on); without one they hold their start positions (a garment hanging from pins).
   double p_pins = 0.0;
+  // Cloth against itself (the repulsion term, effect self_collision): drawn only when > 0, so
+  // that runs without it keep their sample stream.
+  double p_self_collision = 0.0;
   template <class V>
   void visit(V& v) {
     v("p_gravity", p_gravity, in_range(0, 1));
     v("p_body", p_body, in_range(0, 1));
     v("p_friction", p_friction, in_range(0, 1));
     v("p_pins", p_pins, in_range(0, 1));
+    v("p_self_collision", p_self_collision, in_range(0, 1));
   }
 };
 
