@@ -16,4 +16,10 @@ double collision_weight(const CollisionConfig& config, int64_t step) {
   return config.weight_start * std::pow(config.weight_end / config.weight_start, t);
 }
 
+double repulsion_weight(const RepulsionConfig& config, int64_t step) {
+  if (config.ramp_steps <= 0) return step < config.hold_steps ? config.weight_start : config.weight;
+  const double t = std::clamp(static_cast<double>(step - config.hold_steps) / config.ramp_steps, 0.0, 1.0);
+  return config.weight_start + t * (config.weight - config.weight_start);
+}
+
 }  // namespace pb4u

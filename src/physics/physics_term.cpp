@@ -11,7 +11,7 @@
 
 namespace pb4u {
 
-TermList build_terms(const Effects& effects, const PhysicsConfig& config, double weight) {
+TermList build_terms(const Effects& effects, const PhysicsConfig& config, double weight, double repulsion) {
   TermList terms;
   terms.push_back(std::make_unique<StretchTerm>());
   terms.push_back(std::make_unique<BendingTerm>(config.degenerate_area));
@@ -21,7 +21,11 @@ TermList build_terms(const Effects& effects, const PhysicsConfig& config, double
   terms.push_back(std::make_unique<InertiaTerm>());
   if (effects.gravity) terms.push_back(std::make_unique<GravityTerm>());
   if (effects.friction) terms.push_back(std::make_unique<FrictionTerm>(config.friction));
-  if (effects.self_collision) terms.push_back(std::make_unique<RepulsionTerm>(config.repulsion));
+  if (effects.self_collision) {
+    RepulsionConfig r = config.repulsion;
+    if (repulsion >= 0) r.weight = repulsion;
+    terms.push_back(std::make_unique<RepulsionTerm>(r));
+  }
   return terms;
 }
 

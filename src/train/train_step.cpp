@@ -143,7 +143,8 @@ Trainer::SampleResult Trainer::train_sample(std::mt19937_64& rng, int slot, int 
   Eigen::MatrixXd body_now = pose(tr.frame), body_next = pose(tr.frame + 1);
   lap("body poses, pins");
 
-  TermList terms = build_terms(tr.effects, config_.physics, collision_weight);
+  TermList terms =
+      build_terms(tr.effects, config_.physics, collision_weight, repulsion_weight(config_.physics.repulsion, step_));
   torch::Tensor loss_sum = torch::zeros({}, torch::TensorOptions().device(device_));
   std::vector<double> term_sums(terms.size(), 0.0);
   double last_positive = 0;  // of the last step: does the chain stay plausible?

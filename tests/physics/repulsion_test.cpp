@@ -118,5 +118,28 @@ TEST(Repulsion, OnlyTheSelfCollisionEffectBuildsIt) {
   EXPECT_NEAR(term.energy(state.x, state, cloth, nullptr).item<double>(), 2e6 * 8 * 1e-9, 1e-12);
 }
 
+// ContourCraft's schedule shape: held at the start weight, then linear to the final one; the
+// term built for a training step carries that step's weight.
+TEST(Repulsion, WeightHoldsThenRampsLinearly) {
+  RepulsionConfig r;
+  EXPECT_DOUBLE_EQ(repulsion_weight(r, 0), r.weight);  // no ramp: the final weight throughout
+  r.weight_start = 0;
+  r.hold_steps = 1000;
+  r.ramp_steps = 3000;
+  EXPECT_DOUBLE_EQ(repulsion_weight(r, 999), 0.0);
+  EXPECT_DOUBLE_EQ(repulsion_weight(r, 2500), 1e6);
+  EXPECT_DOUBLE_EQ(repulsion_weight(r, 4000), 2e6);
+  EXPECT_DOUBLE_EQ(repulsion_weight(r, 100000), 2e6);
+  PhysicsConfig physics;
+  physics.repulsion = r;
+  Effects effects = Effects::from_names({"self_collision"}, "scene.effects");
+  TriMesh m = two_sheets(0.002);
+  ClothGeometry cloth = make_cloth_geometry(m);
+  FrameState state = test::resting_state(test::positions_tensor(m.V));
+  state.effects = effects;
+  TermList half = build_terms(effects, physics, -1.0, repulsion_weight(r, 2500));
+  EXPECT_NEAR(half.back()->energy(state.x, state, cloth, nullptr).item<double>(), 1e6 * 8 * 1e-9, 1e-12);
+}
+
 }  // namespace
 }  // namespace pb4u

@@ -52,7 +52,12 @@ struct FrictionConfig {
 // Reference solver (SPEC 8): L-BFGS on the per-frame energy with a backtracking line search.
 // ContourCraft's cloth repulsion (physics/repulsion_energy.h), its stage-1 settings.
 struct RepulsionConfig {
-  double weight = 2e6;         // J/m^3 (ContourCraft ramps 0 -> 2e6 over training steps 30000-40000)
+  double weight = 2e6;         // J/m^3: the final weight, also the evaluation weight
+  // Training: weight_start until hold_steps, then linear to `weight` over ramp_steps (0: `weight`
+  // from step 0). ContourCraft: 0, held 30000 steps, ramped over 10000.
+  double weight_start = 0;
+  int hold_steps = 0;
+  int ramp_steps = 0;
   double eps = 3e-3;           // m: the penalty acts closer than this to the face's plane
   double radius = 1e-2;        // m: a vertex within this of a face's plane at t, over the face, is a pair
   double pinned_factor = 100;  // a pair with a pinned vertex weighs this much more (before the cube)
@@ -60,6 +65,9 @@ struct RepulsionConfig {
   template <class V>
   void visit(V& v) {
     v("weight", weight, non_negative());
+    v("weight_start", weight_start, non_negative());
+    v("hold_steps", hold_steps, int_at_least(0));
+    v("ramp_steps", ramp_steps, int_at_least(0));
     v("eps", eps, positive());
     v("radius", radius, positive());
     v("pinned_factor", pinned_factor, positive());
@@ -139,5 +147,7 @@ struct PhysicsConfig {
 // ramp over ramp_steps; the final weight (weight_end) from hold_steps + ramp_steps on.
 // Evaluation uses weight_end.
 double collision_weight(const CollisionConfig& config, int64_t step);
+// The repulsion weight (J/m^3) at training step `step` (RepulsionConfig).
+double repulsion_weight(const RepulsionConfig& config, int64_t step);
 
 }  // namespace pb4u

@@ -43,8 +43,9 @@ using TermList = std::vector<std::unique_ptr<PhysicsTerm>>;
 // repulsion (effect self_collision) only if the effect is on.
 // collision_weight (J/m^3): < 0 means the final weight config.collision.weight_end (evaluation);
 // training passes collision_weight(config.collision, step).
+// repulsion_weight likewise: < 0 means config.repulsion.weight.
 TermList build_terms(const Effects& effects, const PhysicsConfig& config,
-                     double collision_weight = -1.0);
+                     double collision_weight = -1.0, double repulsion_weight = -1.0);
 
 // Names of the terms in `terms`, in order.
 std::vector<std::string> term_names(const TermList& terms);
