@@ -89,9 +89,8 @@ GraphBatch build_graph(const FrameState& state, const GarmentTopology& topology,
     g.coarse.push_back({set.senders, set.receivers, edge_set_features(x, set), set.sender_rows, set.receiver_rows});
   }
   // A model of fewer levels sees a vertex of a coarser one at its own coarsest.
-  const torch::Tensor garment_level = topology.vertex_level.defined()
-                                          ? topology.vertex_level.clamp_max(options.coarse_levels)
-                                          : torch::Tensor();
+  const torch::Tensor garment_level =
+      options.coarse_levels > 0 ? topology.vertex_level.clamp_max(options.coarse_levels) : torch::Tensor();
   if (options.coarse_levels > 0) g.vertex_level = garment_level;
   if (options.cloth_edge_radius > 0)
     g.cloth_edges = build_cloth_edges(x, x + v * state.dt, topology.faces, options.cloth_edge_radius, n);

@@ -4,21 +4,14 @@
 
 #include "pb4u/graph/graph_options.h"
 #include "pb4u/spatial/points_over_faces.h"
+#include "pb4u/util/eigen_tensor.h"
 
 namespace pb4u {
 
 GraphEdges build_cloth_edges(const torch::Tensor& x, const torch::Tensor& x_coast, const torch::Tensor& faces,
                              double radius, int64_t rows) {
-  auto xc = x.detach().to(torch::kCPU, torch::kFloat64).contiguous();
-  auto fc = faces.to(torch::kCPU, torch::kInt64).contiguous();
-  Eigen::MatrixXd V(xc.size(0), 3);
-  Eigen::MatrixXi F(fc.size(0), 3);
-  auto xa = xc.accessor<double, 2>();
-  auto fa = fc.accessor<int64_t, 2>();
-  for (int64_t i = 0; i < xc.size(0); ++i)
-    for (int k = 0; k < 3; ++k) V(i, k) = xa[i][k];
-  for (int64_t f = 0; f < fc.size(0); ++f)
-    for (int k = 0; k < 3; ++k) F(f, k) = static_cast<int>(fa[f][k]);
+  const Eigen::MatrixXd V = tensor_to_matrix(x);
+  const Eigen::MatrixXi F = index_tensor_to_matrix(faces);
   std::vector<int64_t> senders, receivers, face_of;
   for (const PointOverFace& pair : points_over_faces(V, V, F, radius, true)) {
     int nearest = F(pair.face, 0);
@@ -30,12 +23,10 @@ GraphEdges build_cloth_edges(const torch::Tensor& x, const torch::Tensor& x_coas
     face_of.push_back(pair.face);
   }
   const auto dev = x.device();
-  const auto index = torch::TensorOptions().dtype(torch::kInt64);
-  const int64_t E = static_cast<int64_t>(senders.size());
   GraphEdges out;
-  out.senders = torch::from_blob(senders.data(), {E}, index).clone().to(dev);
-  out.receivers = torch::from_blob(receivers.data(), {E}, index).clone().to(dev);
-  auto face = torch::from_blob(face_of.data(), {E}, index).clone().to(dev);
+  out.senders = torch::tensor(senders, torch::kInt64).to(dev);
+  out.receivers = torch::tensor(receivers, torch::kInt64).to(dev);
+  auto face = torch::tensor(face_of, torch::kInt64).to(dev);
   auto corners = faces.to(dev).index_select(0, face);
   auto x0 = x.index_select(0, corners.select(1, 0));
   auto n = torch::cross(x.index_select(0, corners.select(1, 1)) - x0, x.index_select(0, corners.select(1, 2)) - x0, 1);

@@ -4,6 +4,7 @@
 #include "pb4u/mesh/coarse_levels.h"
 #include "pb4u/mesh/edges.h"
 #include "pb4u/mesh/geometry.h"
+#include "pb4u/util/eigen_tensor.h"
 #include "pb4u/util/error.h"
 
 namespace pb4u {
@@ -59,11 +60,7 @@ GarmentTopology build_garment_topology(const TriMesh& rest, const std::string& w
   GarmentTopology topo;
   topo.num_vertices = n;
   topo.mean_edge_length = L.mean();
-  auto faces = torch::empty({rest.num_faces(), 3}, torch::kInt64);
-  auto fa = faces.accessor<int64_t, 2>();
-  for (int f = 0; f < rest.num_faces(); ++f)
-    for (int k = 0; k < 3; ++k) fa[f][k] = rest.F(f, k);
-  topo.faces = faces;
+  topo.faces = index_matrix_to_tensor(rest.F);
 
   GarmentEdgeSet mesh = directed_edge_set(rest.V, E, n);
   topo.senders = mesh.senders;

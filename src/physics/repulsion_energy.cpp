@@ -3,33 +3,15 @@
 #include <vector>
 
 #include "pb4u/spatial/points_over_faces.h"
+#include "pb4u/util/eigen_tensor.h"
 
 namespace pb4u {
 
-namespace {
-Eigen::MatrixXd to_matrix(const torch::Tensor& x) {
-  auto c = x.detach().to(torch::kCPU, torch::kFloat64).contiguous();
-  Eigen::MatrixXd m(c.size(0), 3);
-  auto a = c.accessor<double, 2>();
-  for (int64_t i = 0; i < c.size(0); ++i)
-    for (int k = 0; k < 3; ++k) m(i, k) = a[i][k];
-  return m;
-}
-
-Eigen::MatrixXi to_faces(const torch::Tensor& faces) {
-  auto c = faces.to(torch::kCPU, torch::kInt64).contiguous();
-  Eigen::MatrixXi f(c.size(0), 3);
-  auto a = c.accessor<int64_t, 2>();
-  for (int64_t i = 0; i < c.size(0); ++i)
-    for (int k = 0; k < 3; ++k) f(i, k) = static_cast<int>(a[i][k]);
-  return f;
-}
-}  // namespace
 
 RepulsionPairs repulsion_pairs(const torch::Tensor& x, const torch::Tensor& faces, const torch::Tensor& pinned,
                                double radius, double pinned_factor) {
-  const Eigen::MatrixXd V = to_matrix(x);
-  const Eigen::MatrixXi F = to_faces(faces);
+  const Eigen::MatrixXd V = tensor_to_matrix(x);
+  const Eigen::MatrixXi F = index_tensor_to_matrix(faces);
   std::vector<char> is_pinned(static_cast<size_t>(V.rows()), 0);
   if (pinned.defined()) {
     auto p = pinned.to(torch::kCPU, torch::kBool).contiguous();
@@ -46,14 +28,11 @@ RepulsionPairs repulsion_pairs(const torch::Tensor& x, const torch::Tensor& face
                      is_pinned[static_cast<size_t>(F(f, 1))] || is_pinned[static_cast<size_t>(F(f, 2))];
     factor.push_back(pin ? pinned_factor : 1.0);
   }
-  const auto index = torch::TensorOptions().dtype(torch::kInt64);
-  const auto real = torch::TensorOptions().dtype(torch::kFloat64);
-  const int64_t P = static_cast<int64_t>(vertex.size());
   RepulsionPairs out;
-  out.vertex = torch::from_blob(vertex.data(), {P}, index).clone().to(x.device());
-  out.face = torch::from_blob(face.data(), {P}, index).clone().to(x.device());
-  out.side = torch::from_blob(side.data(), {P}, real).clone().to(x.device(), x.scalar_type());
-  out.factor = torch::from_blob(factor.data(), {P}, real).clone().to(x.device(), x.scalar_type());
+  out.vertex = torch::tensor(vertex, torch::kInt64).to(x.device());
+  out.face = torch::tensor(face, torch::kInt64).to(x.device());
+  out.side = torch::tensor(side, torch::kFloat64).to(x.device(), x.scalar_type());
+  out.factor = torch::tensor(factor, torch::kFloat64).to(x.device(), x.scalar_type());
   return out;
 }
 
@@ -74,9 +53,17 @@ torch::Tensor repulsion_energy(const torch::Tensor& x_next, const torch::Tensor&
 torch::Tensor RepulsionTerm::energy(const torch::Tensor& x_next, const FrameState& state, const ClothGeometry& cloth,
                                     const BodyContact* /*contact*/) const {
   check_positions(x_next, cloth);
-  const RepulsionPairs pairs = repulsion_pairs(state.x, cloth.faces, state.effects.pins ? state.pinned : torch::Tensor(),
-                                               config_.radius, config_.pinned_factor);
-  return repulsion_energy(x_next, cloth.faces, pairs, config_.eps, config_.weight);
+  // The pairs depend on the state alone: a solver evaluating many x_next for one state finds
+  // them once.
+  const torch::Tensor& pinned = state.effects.pins ? state.pinned : torch::Tensor();
+  if (!(cache_.x.defined() && cache_.x.is_same(state.x) && cache_.x_version == state.x._version() &&
+        cache_.pinned.is_same(pinned))) {
+    cache_.pairs = repulsion_pairs(state.x, cloth.faces, pinned, config_.radius, config_.pinned_factor);
+    cache_.x = state.x;
+    cache_.x_version = state.x._version();
+    cache_.pinned = pinned;
+  }
+  return repulsion_energy(x_next, cloth.faces, cache_.pairs, config_.eps, config_.weight);
 }
 
 }  // namespace pb4u

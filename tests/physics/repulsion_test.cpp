@@ -116,6 +116,13 @@ TEST(Repulsion, OnlyTheSelfCollisionEffectBuildsIt) {
   state.effects = effects;
   RepulsionTerm term(physics.repulsion);
   EXPECT_NEAR(term.energy(state.x, state, cloth, nullptr).item<double>(), 2e6 * 8 * 1e-9, 1e-12);
+  // The pairs are kept for one state only: sheets moved apart (a new state, then the same one
+  // changed in place) find none.
+  const auto apart = test::positions_tensor(two_sheets(0.05).V);
+  state.x = apart.clone();
+  EXPECT_EQ(term.energy(state.x, state, cloth, nullptr).item<double>(), 0.0);
+  state.x.copy_(test::positions_tensor(m.V));
+  EXPECT_NEAR(term.energy(state.x, state, cloth, nullptr).item<double>(), 2e6 * 8 * 1e-9, 1e-12);
 }
 
 // ContourCraft's schedule shape: held at the start weight, then linear to the final one; the

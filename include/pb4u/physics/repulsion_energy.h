@@ -38,12 +38,18 @@ class RepulsionTerm : public PhysicsTerm {
  public:
   explicit RepulsionTerm(const RepulsionConfig& config) : config_(config) {}
   std::string name() const override { return "repulsion"; }
-  // Pairs from state.x, the energy of x_next.
+  // Pairs from state.x (kept while state.x is the same tensor, unmodified), the energy of x_next.
   torch::Tensor energy(const torch::Tensor& x_next, const FrameState& state, const ClothGeometry& cloth,
                        const BodyContact* contact) const override;
 
  private:
   RepulsionConfig config_;
+  struct Cache {
+    torch::Tensor x, pinned;
+    uint32_t x_version = 0;
+    RepulsionPairs pairs;
+  };
+  mutable Cache cache_;
 };
 
 }  // namespace pb4u
