@@ -161,6 +161,9 @@ BenchResult run_bench(const BenchConfig& config, const std::function<void(const 
   for (const auto& path : config.checkpoints) models.push_back(load_model_file(path));
   if (config.names.size() > models.size()) throw Error("names: more names than checkpoints");
   const std::vector<std::string> names = method_names(models, config.names);
+  // Geodesic anchors (eslr) are found once per level, as many as any model asks for.
+  int anchors = 0;
+  for (const auto& m : models) anchors = std::max(anchors, m.config.graph_options().geodesic_anchors);
   const ModelFile* pb4u = nullptr;
   for (const auto& m : models)
     if (m.config.is_pb4u()) {
@@ -214,7 +217,7 @@ BenchResult run_bench(const BenchConfig& config, const std::function<void(const 
                   std::to_string(garment->levels.size()) + " levels)");
     const auto level_start = Clock::now();
     const Garment& g = garment->levels[level - 1];
-    const GarmentTopology topology = build_garment_topology(g.mesh, g.name);
+    const GarmentTopology topology = build_garment_topology(g.mesh, g.name, anchors);
     RolloutInput body_input = lbs_rollout_input(record->body, g, motion.motion, config.start_frame, steps, effects,
                                                 config.material, config.push_out_gap);
     RolloutInput free_input = lbs_rollout_input(record->body, g, motion.motion, config.start_frame, steps,

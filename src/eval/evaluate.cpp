@@ -256,7 +256,8 @@ std::vector<LevelResult> evaluate(const EvalConfig& config, const std::vector<Ev
         GarmentTopology topology;
         StepFunction step;
         if (method.model) {
-          topology = build_garment_topology(garment.mesh, garment.name);
+          topology = build_garment_topology(garment.mesh, garment.name,
+                                            method.model->config.graph_options().geodesic_anchors);
           step = network_stepper(*method.model, topology);
           if (config.refine.enabled()) step = refined_stepper(step, config.physics.solver, config.refine);
           if (mr.K == 0) mr.K = method.model->model->propagation_steps_for(topology.mean_edge_length);

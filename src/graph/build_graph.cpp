@@ -92,6 +92,12 @@ GraphBatch build_graph(const FrameState& state, const GarmentTopology& topology,
   const torch::Tensor garment_level =
       options.coarse_levels > 0 ? topology.vertex_level.clamp_max(options.coarse_levels) : torch::Tensor();
   if (options.coarse_levels > 0) g.vertex_level = garment_level;
+  if (options.geodesic_anchors > 0) {
+    if (!topology.anchors.defined())
+      throw Error("graph: the garment's topology has no geodesic anchors, which the model's attention needs "
+                  "(build it with the model's geodesic_anchors)");
+    g.anchor_sets.push_back({0, n, topology.anchors, topology.anchor_distance});
+  }
   if (options.cloth_edge_radius > 0)
     g.cloth_edges = build_cloth_edges(x, x + v * state.dt, topology.faces, options.cloth_edge_radius, n);
   if (!state.effects.needs_body() || !state.body.defined()) return g;

@@ -16,6 +16,7 @@ GraphBatch concat_graphs(const std::vector<GraphBatch>& graphs) {
   const size_t levels = graphs[0].coarse.size();
   std::vector<std::vector<torch::Tensor>> cs(levels), cr(levels), cf(levels);
   int64_t garment_offset = 0, body_offset = total_garment;
+  std::vector<AnchorSet> anchor_sets;
   double length_sum = 0, edge_count = 0;
   for (const auto& g : graphs) {
     const int64_t n = g.num_garment_nodes, nb = g.num_nodes() - n;
@@ -48,6 +49,10 @@ GraphBatch concat_graphs(const std::vector<GraphBatch>& graphs) {
       garment_levels.push_back(g.vertex_level.narrow(0, 0, n));
       body_levels.push_back(g.vertex_level.narrow(0, n, nb));
     }
+    if (g.anchor_sets.empty() != graphs[0].anchor_sets.empty())
+      throw Error("concat_graphs: graphs with and without geodesic anchors");
+    for (const AnchorSet& set : g.anchor_sets)
+      anchor_sets.push_back({set.first_node + garment_offset, set.num_nodes, set.nodes + garment_offset, set.distance});
     scale.push_back(g.vertex_mean_edge_length);
     length_sum += g.mean_edge_length * static_cast<double>(g.mesh_senders.size(0));
     edge_count += static_cast<double>(g.mesh_senders.size(0));
@@ -84,6 +89,7 @@ GraphBatch concat_graphs(const std::vector<GraphBatch>& graphs) {
     garment_levels.insert(garment_levels.end(), body_levels.begin(), body_levels.end());
     out.vertex_level = torch::cat(garment_levels);
   }
+  out.anchor_sets = std::move(anchor_sets);
   out.vertex_mean_edge_length = torch::cat(scale);
   out.mean_edge_length = edge_count > 0 ? length_sum / edge_count : 0;
   return out;

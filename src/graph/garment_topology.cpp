@@ -3,6 +3,7 @@
 #include "pb4u/graph/features.h"
 #include "pb4u/mesh/coarse_levels.h"
 #include "pb4u/mesh/edges.h"
+#include "pb4u/mesh/geodesic_anchors.h"
 #include "pb4u/mesh/geometry.h"
 #include "pb4u/util/eigen_tensor.h"
 #include "pb4u/util/error.h"
@@ -46,7 +47,7 @@ GarmentEdgeSet directed_edge_set(const Eigen::MatrixXd& rest, const Eigen::Matri
 }
 }  // namespace
 
-GarmentTopology build_garment_topology(const TriMesh& rest, const std::string& where) {
+GarmentTopology build_garment_topology(const TriMesh& rest, const std::string& where, int geodesic_anchor_count) {
   const int n = rest.num_vertices();
   if (rest.num_faces() == 0) fail_file(where, "garment mesh has no faces");
   if (rest.F.minCoeff() < 0 || rest.F.maxCoeff() >= n)
@@ -82,13 +83,20 @@ GarmentTopology build_garment_topology(const TriMesh& rest, const std::string& w
     fail_file(where, "vertex " + std::to_string(worst) + " has no face of positive area");
   topo.vertex_area = to_float_tensor(area);
   topo.vertex_mean_edge_length = to_float_tensor(vertex_mean_edge_length(rest.V, rest.F));
+  if (geodesic_anchor_count > 0) {
+    GeodesicAnchors geodesic = geodesic_anchors(E, L, n, geodesic_anchor_count);
+    topo.anchors = torch::tensor(std::vector<int64_t>(geodesic.anchors.begin(), geodesic.anchors.end()), torch::kInt64);
+    Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> d = geodesic.distance.cast<float>();
+    topo.anchor_distance = torch::from_blob(d.data(), {d.rows(), d.cols()}, torch::kFloat32).clone();
+  }
   return topo;
 }
 
 GarmentTopology garment_topology_to(const GarmentTopology& topology, torch::Device device) {
   GarmentTopology out = topology;
   for (torch::Tensor* t : {&out.faces, &out.senders, &out.receivers, &out.rest_direction, &out.rest_length,
-                           &out.vertex_area, &out.vertex_mean_edge_length, &out.vertex_level})
+                           &out.vertex_area, &out.vertex_mean_edge_length, &out.vertex_level, &out.anchors,
+                           &out.anchor_distance})
     if (t->defined()) *t = t->to(device);
   for (GarmentEdgeSet& set : out.coarse) {
     for (torch::Tensor* t : {&set.senders, &set.receivers, &set.rest_direction, &set.rest_length})

@@ -159,6 +159,8 @@ std::string network_name(const ModelConfig& config) {
   // another model.
   if (config.is_hood()) return config.update_scaling_on() ? "HOOD w/ US" : "HOOD";
   if (config.is_ccraft()) return config.update_scaling_on() ? "CCRAFT w/ US" : "CCRAFT";
+  // Rebuilt from the ESLR paper (its code is not public): the name says so wherever it appears.
+  if (config.is_eslr()) return config.update_scaling_on() ? "ESLR (rec.) w/ US" : "ESLR (rec.)";
   if (!config.is_pb4u()) return config.update_scaling_on() ? "MGN w/ US" : "MGN";
   const bool pc = config.propagation_control_on(), us = config.update_scaling_on();
   if (pc && us) return "Pb4U";

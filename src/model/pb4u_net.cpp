@@ -66,6 +66,13 @@ Pb4uNetImpl::Pb4uNetImpl(const ModelConfig& c) : config(c) {
     for (size_t b = 0; b < schedule.size(); ++b)
       hood_blocks.push_back(
           register_module("block" + std::to_string(b), HoodBlock(schedule[b], H, L, config.is_ccraft())));
+  } else if (config.is_eslr()) {
+    for (int b = 0; b < config.num_blocks; ++b) {
+      lsdmp_blocks.push_back(register_module("block" + std::to_string(b), LsdmpBlock(H, L)));
+      attention.push_back(register_module("attention" + std::to_string(b),
+                                          GeodesicAttention(H, config.attention_heads, config.geodesic_bins,
+                                                            config.geodesic_max_distance)));
+    }
   } else {
     for (int b = 0; b < config.num_blocks; ++b)
       blocks.push_back(register_module("block" + std::to_string(b), GraphNetBlock(H, L)));
@@ -123,6 +130,15 @@ torch::Tensor Pb4uNetImpl::forward(const GraphBatch& g, int64_t K, StageTimes* t
   clock.lap(times ? &times->propagate : nullptr);
   if (config.is_hierarchical()) {
     latent.nodes = hood_blocks_forward(g, latent.nodes, latent.mesh_edges, latent.world_edges, ms, mr, ws, wr);
+  } else if (config.is_eslr()) {
+    if (g.anchor_sets.empty())
+      throw Error("eslr model: the graph lacks its geodesic anchors (build it with the model's graph options)");
+    for (size_t b = 0; b < lsdmp_blocks.size(); ++b) {
+      // The two halves read the same input; their updates add up.
+      auto long_range = attention[b](latent.nodes, g.anchor_sets);
+      latent = lsdmp_blocks[b](latent, ms, mr, ws, wr);
+      latent.nodes = latent.nodes + long_range;
+    }
   } else {
     for (auto& block : blocks)
       latent = block(latent, ms, mr, ws, wr);
@@ -212,7 +228,7 @@ void Pb4uNetImpl::set_split_first_layer(bool split) {
 double Pb4uNetImpl::message_passing_flops(int64_t nodes, int64_t mesh_edges, int64_t world_edges,
                                           int64_t K) const {
   const double n = double(nodes), Em = double(mesh_edges), Ew = double(world_edges);
-  if (config.is_hierarchical()) return std::numeric_limits<double>::quiet_NaN();
+  if (config.is_hierarchical() || config.is_eslr()) return std::numeric_limits<double>::quiet_NaN();
   double flops = 0;
   if (propagation) {
     flops += propagation->matmul_flops(n, Em, K);
@@ -224,6 +240,13 @@ double Pb4uNetImpl::message_passing_flops(int64_t nodes, int64_t mesh_edges, int
 
 double Pb4uNetImpl::message_passing_flops(const GraphBatch& g, int64_t K) const {
   const int64_t ew = g.num_world_edges();
+  if (config.is_eslr()) {
+    double flops = 0;
+    for (const auto& b : lsdmp_blocks) flops += b->matmul_flops(double(g.num_nodes()), double(g.mesh_senders.size(0)), double(ew));
+    for (const auto& a : attention)
+      for (const AnchorSet& set : g.anchor_sets) flops += a->matmul_flops(double(set.num_nodes), double(set.nodes.size(0)));
+    return flops;
+  }
   if (!config.is_hierarchical()) return message_passing_flops(g.num_nodes(), g.mesh_senders.size(0), ew, K);
   std::vector<double> set_edges{double(g.mesh_senders.size(0))};
   for (const GraphEdges& set : g.coarse) set_edges.push_back(double(set.senders.size(0)));

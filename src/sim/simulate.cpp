@@ -59,7 +59,7 @@ SimulateResult simulate(const SceneConfig& scene, const std::string& scene_path,
   StepFunction step;
   std::shared_ptr<ContactStepLog> contact_log;
   if (model) {
-    topology = build_garment_topology(setup.garment, "garment");
+    topology = build_garment_topology(setup.garment, "garment", model->config.graph_options().geodesic_anchors);
     contact_log = std::make_shared<ContactStepLog>();
     step = network_stepper(*model, topology, -1, model->config.refine_iterations > 0 ? contact_log : nullptr);
     if (scene.refine.enabled()) {

@@ -75,7 +75,7 @@ inline Pb4uNet warmed_model(const ModelConfig& c, unsigned seed = 0) {
   model->train();
   for (unsigned i = 0; i < 3; ++i) {
     auto s = tiny_scene(100 + i, true);
-    GarmentTopology t = build_garment_topology(s.rest);
+    GarmentTopology t = build_garment_topology(s.rest, "garment", c.graph_options().geodesic_anchors);
     model->forward(build_graph(s.state, t, c.graph_options()), 2);
   }
   model->eval();

@@ -25,6 +25,14 @@ struct GraphEdges {
   RowIndex sender_rows, receiver_rows;
 };
 
+// One garment's keys for the eslr baseline's attention: its nodes are rows
+// [first_node, first_node + num_nodes) of the graph, and each attends to the anchor nodes.
+struct AnchorSet {
+  int64_t first_node = 0, num_nodes = 0;
+  torch::Tensor nodes;     // (M) int64: the anchors' node ids
+  torch::Tensor distance;  // (num_nodes, M) float, m: edge-path distance on the rest mesh
+};
+
 struct GraphBatch {
   torch::Tensor node_features;                   // (nodes, 21) float
   int64_t num_garment_nodes = 0;
@@ -45,6 +53,8 @@ struct GraphBatch {
   // With GraphOptions::cloth_edge_radius > 0 (ccraft): cloth-to-cloth edges
   // (graph/cloth_edges.h), features (E, kClothEdgeFeatureDim); else undefined.
   GraphEdges cloth_edges;
+  // With GraphOptions::geodesic_anchors > 0 (eslr): one per garment, in node order.
+  std::vector<AnchorSet> anchor_sets;
 
   int64_t num_nodes() const { return node_features.size(0); }
   int64_t num_world_edges() const { return world_senders.defined() ? world_senders.size(0) : 0; }

@@ -28,6 +28,10 @@ struct GraphOptions {
   // to the nearest vertex of every face of its own cloth over which it lies within this distance
   // (ContourCraft's, for the ccraft baseline).
   double cloth_edge_radius = 0;
+  // > 0: the graph also carries, per garment, this many geodesic anchors and every vertex's
+  // distance to them (GraphBatch::anchor_sets), for the eslr baseline's attention. The garment's
+  // topology must have been built with them (build_garment_topology).
+  int geodesic_anchors = 0;
 
   int64_t world_edge_feature_dim() const { return body_normal_distance ? 10 : 8; }
 };

@@ -13,7 +13,10 @@ namespace pb4u {
 struct ModelConfig {
   // pb4u | mgn (no propagation: the paper's MGN) | hood (no propagation; HOOD's coarse edge
   // sets and U-shaped block schedule, model/hood_block.h) | ccraft (ContourCraft's stage 1: the
-  // same blocks, flat over the mesh and the coarsest level, with cloth-to-cloth edges)
+  // same blocks, flat over the mesh and the coarsest level, with cloth-to-cloth edges) | eslr
+  // (a reconstruction of ESLR from its paper: num_blocks layers, each a MeshGraphNet step with
+  // Laplacian smoothing beside a geodesic self-attention; model/lsdmp_block.h,
+  // model/geodesic_attention.h)
   std::string kind = "pb4u";
   // hood / ccraft: each block's edge sets (model/hood_block.h); num_blocks must match. Empty:
   // the kind's own (kHoodSchedule, kContourCraftSchedule).
@@ -52,6 +55,13 @@ struct ModelConfig {
   // m/s^2 per decoder output unit: the decoder's natural O(1) output covers gravity-scale
   // accelerations when this is ~10 (1 = older models, which emit m/s^2 directly).
   double acceleration_unit = 1.0;
+  // eslr: the attention's heads (dividing latent), the anchors every vertex attends to (all
+  // vertices of a garment with fewer), and the distance bias's bins, spaced as the square over
+  // [0, geodesic_max_distance] m (the last bin holds everything farther).
+  int attention_heads = 4;
+  int geodesic_anchors = 256;
+  int geodesic_bins = 16;
+  double geodesic_max_distance = 2.0;
   int normalizer_warmup = 1000;            // training forward calls that feed the normalisers
   double normalizer_epsilon = 1e-8;        // floor of a feature's standard deviation
   // Training samples K uniformly from [lo * K_base, hi * K_base] (integers).
@@ -62,6 +72,7 @@ struct ModelConfig {
   bool is_pb4u() const { return kind == "pb4u"; }
   bool is_hood() const { return kind == "hood"; }
   bool is_ccraft() const { return kind == "ccraft"; }
+  bool is_eslr() const { return kind == "eslr"; }
   // hood and ccraft: the blocks of model/hood_block.h over coarse edge sets.
   bool is_hierarchical() const { return is_hood() || is_ccraft(); }
   int coarse_levels() const { return is_hood() ? kHoodCoarseLevels : is_ccraft() ? kCoarseLevels : 0; }
@@ -70,12 +81,12 @@ struct ModelConfig {
   bool update_scaling_on() const { return update_scaling != "off"; }
   GraphOptions graph_options() const {
     return {world_edge_radius, world_edges == "nearest", material_ranges, world_normal_distance == "on",
-            coarse_levels(), is_ccraft() ? 0.03 : 0.0};
+            coarse_levels(), is_ccraft() ? 0.03 : 0.0, is_eslr() ? geodesic_anchors : 0};
   }
 
   template <class V>
   void visit(V& v) {
-    v("kind", kind, one_of({"pb4u", "mgn", "hood", "ccraft"}));
+    v("kind", kind, one_of({"pb4u", "mgn", "hood", "ccraft", "eslr"}));
     v("hood_schedule", hood_schedule);
     v("propagation_control", propagation_control, one_of({"on", "off"}));
     v("update_scaling", update_scaling, one_of({"on", "off", "detail"}));
@@ -94,6 +105,10 @@ struct ModelConfig {
     v("world_edges", world_edges, one_of({"nearest", "radius"}));
     v("world_normal_distance", world_normal_distance, one_of({"on", "off"}));
     v("acceleration_unit", acceleration_unit, positive());
+    v("attention_heads", attention_heads, int_at_least(1));
+    v("geodesic_anchors", geodesic_anchors, int_at_least(1));
+    v("geodesic_bins", geodesic_bins, int_at_least(2));
+    v("geodesic_max_distance", geodesic_max_distance, positive());
     v("normalizer_warmup", normalizer_warmup, int_at_least(0));
     v("normalizer_epsilon", normalizer_epsilon, positive());
     v("train_k_range", train_k_range);

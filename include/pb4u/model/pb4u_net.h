@@ -3,7 +3,9 @@
 //   normalise -> encode -> [pb4u: propagate K steps, update f_u(v, h^K)] -> N blocks -> decode
 //   -> update scaling -> acceleration.
 // kind mgn skips propagation and update (the paper's MGN); kind hood too, and its blocks are
-// HOOD's over the coarse edge sets (hood_block.h); propagation_control off fixes
+// HOOD's over the coarse edge sets (hood_block.h); kind eslr too, and each of its layers is a
+// Laplacian-smoothed MeshGraphNet step (lsdmp_block.h) plus, from the same input, a geodesic
+// self-attention (geodesic_attention.h); propagation_control off fixes
 // K = K_base; update_scaling off sets s = 1. The calibration (Lbar_base, D = K_base Lbar_base)
 // and the normaliser statistics are buffers, saved and loaded with the weights.
 #include <torch/torch.h>
@@ -14,8 +16,10 @@
 #include "pb4u/graph/graph_batch.h"
 #include "pb4u/graph/online_normalizer.h"
 #include "pb4u/model/decayed_propagation.h"
+#include "pb4u/model/geodesic_attention.h"
 #include "pb4u/model/graph_net_block.h"
 #include "pb4u/model/hood_block.h"
+#include "pb4u/model/lsdmp_block.h"
 #include "pb4u/model/mlp.h"
 #include "pb4u/model/model_config.h"
 #include "pb4u/scene/frame_state.h"
@@ -55,10 +59,12 @@ struct Pb4uNetImpl : torch::nn::Module {
 
   // Matmul FLOPs of the message passing of one forward (propagation, update and blocks; not
   // the encoders or the decoder) on a graph of `nodes` nodes, `mesh_edges` and `world_edges`
-  // edges, with K propagation steps: the benchmark's measure of work per frame. NaN for hood
-  // (its coarse edges are not among the counts: the overload below has them).
+  // edges, with K propagation steps: the benchmark's measure of work per frame. NaN for hood,
+  // ccraft and eslr (their coarse edges or anchors are not among the counts: the overload below
+  // has them).
   double message_passing_flops(int64_t nodes, int64_t mesh_edges, int64_t world_edges, int64_t K) const;
-  // The same on the graph itself: also counts hood's coarse edges and kept world edges.
+  // The same on the graph itself: also counts hood's coarse edges and kept world edges, and
+  // eslr's attention.
   double message_passing_flops(const GraphBatch& graph, int64_t K) const;
 
   ModelConfig config;
@@ -73,6 +79,9 @@ struct Pb4uNetImpl : torch::nn::Module {
   std::vector<MLP> coarse_encoders;
   std::vector<HoodBlock> hood_blocks;
   OnlineNormalizer cloth_normalizer{nullptr};  // ccraft only: its cloth-to-cloth edges
+  // eslr: per layer, the smoothed message passing and the attention beside it.
+  std::vector<LsdmpBlock> lsdmp_blocks;
+  std::vector<GeodesicAttention> attention;
   MLP cloth_encoder{nullptr};
   MLP decoder{nullptr};
   torch::Tensor lbar_base, distance;  // () float64 buffers, m
