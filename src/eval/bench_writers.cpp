@@ -32,7 +32,7 @@ std::string format_bench_csv(const BenchResult& result) {
 }
 
 std::string format_bench_details_csv(const BenchResult& result) {
-  static const char* kTerms[] = {"stretch", "bending", "collision", "inertia", "gravity", "friction"};
+  static const char* kTerms[] = {"stretch", "bending", "collision", "inertia", "gravity", "friction", "repulsion"};
   std::ostringstream out;
   out << "level,triangles,vertices,method,family,K,iterations,threads,latency_ms_median,latency_ms_min,"
          "physics_loss,positive_loss";

@@ -4,6 +4,7 @@
 // asserted (the CI machine is shared). Plus the exponent fit in closed form and bad configs.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <map>
@@ -121,6 +122,34 @@ TEST(Bench, TinyConfigWritesSpecCsvWithFiniteValues) {
   EXPECT_NE(table.find("Networks vs the reference solver (penalty contact) at equal loss"), std::string::npos);
   EXPECT_NE(table.find("Networks vs the reference solver (intersection-free contact) at equal loss"), std::string::npos);
   EXPECT_TRUE(fs::exists(out + "/bench_config.yaml"));
+}
+
+// bench_details.csv has a column per term, the repulsion term's (effect self_collision) among
+// them, empty where a row has no such term.
+TEST(Bench, DetailsCsvHasAColumnPerTermRepulsionIncluded) {
+  BenchResult result;
+  BenchRow with, without;
+  with.method = "CCRAFT";
+  with.terms = {{"stretch", 0.25}, {"repulsion", 0.5}};
+  without.method = "Pb4U";
+  without.terms = {{"stretch", 0.125}};
+  result.rows = {with, without};
+  std::istringstream in(format_bench_details_csv(result));
+  std::vector<std::vector<std::string>> rows;
+  for (std::string line; std::getline(in, line);) {
+    std::vector<std::string> cells;
+    std::stringstream cs(line);
+    for (std::string cell; std::getline(cs, cell, ',');) cells.push_back(cell);
+    if (!line.empty() && line.back() == ',') cells.push_back("");
+    rows.push_back(cells);
+  }
+  ASSERT_EQ(rows.size(), 3u);
+  const auto column = std::find(rows[0].begin(), rows[0].end(), "repulsion") - rows[0].begin();
+  ASSERT_LT(static_cast<size_t>(column), rows[0].size());
+  EXPECT_EQ(rows[1][static_cast<size_t>(column)], "0.5");
+  EXPECT_EQ(rows[2][static_cast<size_t>(column)], "");
+  const auto stretch = std::find(rows[0].begin(), rows[0].end(), "stretch") - rows[0].begin();
+  EXPECT_EQ(rows[2][static_cast<size_t>(stretch)], "0.125");
 }
 
 TEST(Bench, LatencyExponentIsTheLogLogSlope) {
