@@ -6,6 +6,7 @@
 
 #include "pb4u/cli/commands.h"
 #include "pb4u/eval/evaluate.h"
+#include "pb4u/model/pass_variants.h"
 #include "pb4u/util/device.h"
 #include "pb4u/util/error.h"
 
@@ -30,7 +31,7 @@ void add_evaluate_command(CLI::App& app, const GlobalOptions& global) {
   };
   auto args = std::make_shared<Args>();
   cmd->add_option("--checkpoint", args->checkpoints, "Training checkpoint or export (repeatable)");
-  cmd->add_option("--name", args->names, "Column name for the n-th --checkpoint (repeatable)");
+  cmd->add_option("--name", args->names, "Column name for the n-th run: each --checkpoint once per entry of the config's passes (repeatable)");
   cmd->add_option("--method", args->methods, "Extra method column: reference (the SPEC 8 solver)")
       ->check(CLI::IsMember({"reference", "net"}));
   cmd->add_option("--config,-c", args->config, "Evaluation config (configs/eval/*.yaml)");
@@ -53,11 +54,12 @@ void add_evaluate_command(CLI::App& app, const GlobalOptions& global) {
     if (args->refine >= 0) sets.push_back("refine.iterations=" + std::to_string(args->refine));
     if (args->refine_tolerance >= 0) sets.push_back(fmt::format("refine.tolerance_mm={}", args->refine_tolerance));
     const EvalConfig config = load_config<EvalConfig>(args->config, sets);
-    std::vector<ModelFile> models;
+    std::vector<ModelFile> files;
     const torch::Device device = resolve_device(args->device, "--device");
-    for (const auto& path : args->checkpoints) models.push_back(load_model_file(path));
-    for (auto& m : models) m.model->to(device);
-    if (args->names.size() > models.size()) throw Error("--name: more names than --checkpoint files");
+    for (const auto& path : args->checkpoints) files.push_back(load_model_file(path));
+    for (auto& m : files) m.model->to(device);
+    std::vector<ModelFile> models = pass_variants(files, config.passes);
+    if (args->names.size() > models.size()) throw Error("--name: more names than --checkpoint runs (with passes)");
     auto names = method_names(models, args->names);
     if (config.refine.enabled())
       for (auto& name : names)

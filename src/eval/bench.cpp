@@ -12,6 +12,7 @@
 
 #include "pb4u/data/dataset.h"
 #include "pb4u/eval/evaluate.h"
+#include "pb4u/model/pass_variants.h"
 #include "pb4u/eval/score.h"
 #include "pb4u/eval/stage_timing.h"
 #include "pb4u/rollout/refined_step.h"
@@ -157,9 +158,10 @@ BenchResult run_bench(const BenchConfig& config, const std::function<void(const 
   for (int k : config.k_values)
     if (k < 0) throw Error("k_values: K must be non-negative");
 
-  std::vector<ModelFile> models;
-  for (const auto& path : config.checkpoints) models.push_back(load_model_file(path));
-  if (config.names.size() > models.size()) throw Error("names: more names than checkpoints");
+  std::vector<ModelFile> files;
+  for (const auto& path : config.checkpoints) files.push_back(load_model_file(path));
+  const std::vector<ModelFile> models = pass_variants(files, config.passes);
+  if (config.names.size() > models.size()) throw Error("names: more names than checkpoint runs");
   const std::vector<std::string> names = method_names(models, config.names);
   // Geodesic anchors (eslr) are found once per level, as many as any model asks for.
   int anchors = 0;

@@ -30,7 +30,11 @@ struct BenchConfig {
   int warmup_frames = 2;                // first frames left out of the latency (allocation)
   double push_out_gap = 0.004;          // m, as in training and evaluation
   std::vector<std::string> checkpoints;  // models run with their own K (training or export files)
-  std::vector<std::string> names;        // column names for the first checkpoints (optional)
+  // Each checkpoint under these inference passes (model/pass_variants.h: shipped | none |
+  // projection_strain), its variants together; e.g. [none, shipped]: each network alone beside
+  // the file's own passes.
+  std::vector<std::string> passes{"shipped"};
+  std::vector<std::string> names;        // names of the first runs of those (optional), in order
   std::vector<int> k_values;             // fixed-K runs of the first Pb4U checkpoint (Figure 5)
   // Inference-time switches on the first Pb4U checkpoint's weights: no_update_scaling,
   // no_propagation_control (K = K_base).
@@ -64,6 +68,7 @@ struct BenchConfig {
     v("warmup_frames", warmup_frames, int_at_least(0));
     v("push_out_gap", push_out_gap, in_range(0, 0.05));
     v("checkpoints", checkpoints);
+    v("passes", passes);
     v("names", names);
     v("k_values", k_values);
     v("ablations", ablations);

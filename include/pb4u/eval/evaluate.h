@@ -50,6 +50,10 @@ struct EvalConfig {
   PhysicsConfig physics;   // evaluation uses the final collision weight
   DivergenceConfig divergence;  // when a rollout stops as diverged
   RefineConfig refine;          // the networks' steps refined by the reference solver (physics.solver)
+  // Each --checkpoint under these inference passes (model/pass_variants.h: shipped | none |
+  // projection_strain), its variants side by side; [none, shipped]: each network alone beside
+  // the file's own passes.
+  std::vector<std::string> passes{"shipped"};
   // When set, a PNG contact sheet (sim/preview.h) of the first network method's worst
   // sequence: the one with the largest mean positive energy over every level.
   std::string preview;
@@ -72,6 +76,7 @@ struct EvalConfig {
     v("physics", physics);
     v("divergence", divergence);
     v("refine", refine);
+    v("passes", passes);
     v("preview", preview);
   }
 };

@@ -1,0 +1,53 @@
+// The same weights under several inference passes (model/pass_variants.h), on the shipped files:
+// pb4u.h5 carries the projection and the strain limit, mgn.h5 nothing.
+#include <gtest/gtest.h>
+
+#include "pb4u/model/pass_variants.h"
+#include "pb4u/util/error.h"
+#include "test_util.h"
+
+namespace pb4u {
+namespace {
+
+std::vector<std::string> names_of(const std::vector<ModelFile>& models) {
+  std::vector<std::string> out;
+  for (const auto& m : models) out.push_back(method_name(m.config));
+  return out;
+}
+
+TEST(PassVariants, EachNetworkAloneBesideItsOwnPassesDuplicatesDropped) {
+  const std::vector<ModelFile> files{load_model_file(test::kSource + "/data/pretrained/pb4u.h5"),
+                                     load_model_file(test::kSource + "/data/pretrained/mgn.h5")};
+  ASSERT_EQ(method_name(files[0].config), "Pb4U + projection + strain limit");
+  auto v = pass_variants(files, {"none", "shipped"});
+  EXPECT_EQ(names_of(v), (std::vector<std::string>{"Pb4U", "Pb4U + projection + strain limit", "MGN"}));
+  // The variants share their file's weights.
+  EXPECT_EQ(v[0].model.get(), files[0].model.get());
+  EXPECT_EQ(v[0].path, files[0].path);
+  v = pass_variants(files, {"projection_strain"});
+  EXPECT_EQ(names_of(v), (std::vector<std::string>{"Pb4U + projection + strain limit", "MGN + projection + strain limit"}));
+  EXPECT_DOUBLE_EQ(v[1].config.contact_projection, kShippedProjectionGap);
+  EXPECT_DOUBLE_EQ(v[1].config.strain_limit, kShippedStrainLimit);
+  EXPECT_EQ(files[1].config.contact_projection, 0.0);  // the file itself unchanged
+  // A refined file alone loses its refinement too.
+  ModelFile refined = files[0];
+  refined.config.refine_iterations = 5;
+  v = pass_variants({refined}, {"shipped", "none", "projection_strain"});
+  EXPECT_EQ(names_of(v), (std::vector<std::string>{"Pb4U + projection + strain limit + 5 it", "Pb4U",
+                                                    "Pb4U + projection + strain limit"}));
+}
+
+TEST(PassVariants, UnknownOrNoEntryNamesTheKey) {
+  const std::vector<ModelFile> files{load_model_file(test::kSource + "/data/pretrained/mgn.h5")};
+  for (const std::vector<std::string>& bad : {std::vector<std::string>{"alone"}, std::vector<std::string>{}}) {
+    try {
+      pass_variants(files, bad, "bench.passes");
+      FAIL();
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("bench.passes"), std::string::npos) << e.what();
+    }
+  }
+}
+
+}  // namespace
+}  // namespace pb4u
