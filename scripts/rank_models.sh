@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Ranks training runs on a fixed probe set, kept apart from the held-out report
 # (scripts/stability_report.sh), before any recipe is chosen (docs/training.md, "Ranking runs").
-# Every checkpoint of a run is measured twice: the network alone (its update scaling as shipped,
-# `update_scaling=detail`, no contact projection, no strain limit, no refinement) and with the
+# Every checkpoint of a run is measured twice: the network alone (the shipped Pb4U's
+# `update_scaling=detail` where the model was trained with update scaling, off where it was
+# trained without; no contact projection, no strain limit, no refinement) and with the
 # shipped file's passes (`contact_projection=0.002`, `strain_limit=0.1`). A run's row is the
 # mean of its checkpoints and their spread (min-max), so that two recipes are told apart only
 # when their difference exceeds the noise between checkpoints of one run.
@@ -137,9 +138,13 @@ for spec in "${runs[@]}"; do
     if [ -f "$member/source" ] && [ "$(cat "$member/source")" != "$f" ]; then rm -rf "$member"; fi
     mkdir -p "$member"
     echo "$f" >"$member/source"
-    "$pb4u" -q export --checkpoint "$f" --set update_scaling=detail --set contact_projection=0 \
+    # The shipped Pb4U's detail update scaling for models trained with update scaling; a model
+    # trained without it (MGN, HOOD, CCRAFT, ESLR) keeps it off, as it was trained.
+    scaling=(--set update_scaling=detail)
+    if "$pb4u" -q inspect "$f" | grep -Eq '^  update_scaling: "?off"?$'; then scaling=(); fi
+    "$pb4u" -q export --checkpoint "$f" "${scaling[@]}" --set contact_projection=0 \
       --set strain_limit=0 --set refine_iterations=0 --out "$member/alone.h5"
-    "$pb4u" -q export --checkpoint "$f" --set update_scaling=detail --set contact_projection=0.002 \
+    "$pb4u" -q export --checkpoint "$f" "${scaling[@]}" --set contact_projection=0.002 \
       --set strain_limit=0.1 --set refine_iterations=0 --out "$member/passes.h5"
     for variant in alone passes; do
       echo "rank_models.sh: $name #$i ($f), $variant ($(( $(date +%s) - start )) s so far)" >&2
