@@ -39,7 +39,9 @@ std::pair<Pb4uNet, Pb4uNet> cpu_and_cuda_model(const ModelConfig& c) {
   cpu->train();
   for (unsigned i = 0; i < 3; ++i) {
     auto s = test::tiny_scene(100 + i, true);
-    cpu->forward(build_graph(s.state, build_garment_topology(s.rest), c.graph_options()), 2);
+    cpu->forward(build_graph(s.state, build_garment_topology(s.rest, "garment", c.graph_options().geodesic_anchors),
+                             c.graph_options()),
+                 2);
   }
   cpu->eval();
   const std::string path = test::temp_dir("cuda_net") + "/model.pt";
@@ -52,11 +54,14 @@ std::pair<Pb4uNet, Pb4uNet> cpu_and_cuda_model(const ModelConfig& c) {
 
 TEST(CudaNetwork, ForwardBackwardAndStepMatchTheCpu) {
   PB4U_REQUIRE_CUDA();
-  for (const std::string kind : {"pb4u", "mgn"}) {
-    const ModelConfig c = test::tiny_config(kind);
+  // Every model kind: the baselines' coarse edge sets, cloth edges and geodesic anchors too.
+  for (const std::string kind : {"pb4u", "mgn", "hood", "ccraft", "eslr"}) {
+    ModelConfig c = test::tiny_config(kind);
+    if (kind == "ccraft") c.hood_schedule = "f,c3|f,c3";
+    if (kind == "eslr") c.geodesic_anchors = 8;
     auto [cpu, gpu] = cpu_and_cuda_model(c);
     const auto s = test::tiny_scene(21, true);
-    const GarmentTopology topology = build_garment_topology(s.rest);
+    const GarmentTopology topology = build_garment_topology(s.rest, "garment", c.graph_options().geodesic_anchors);
     const GarmentTopology topology_gpu = garment_topology_to(topology, kCuda);
     const GraphBatch g_cpu = build_graph(s.state, topology, c.graph_options());
     const GraphBatch g_gpu = build_graph(state_on(s.state, kCuda), topology_gpu, c.graph_options());
