@@ -17,6 +17,7 @@
 #include "pb4u/physics/energy_report.h"
 #include "pb4u/physics/physics_term.h"
 #include "pb4u/physics/step_constraints.h"
+#include "pb4u/rollout/refined_step.h"
 #include "pb4u/scene/pins.h"
 #include "pb4u/train/trainer.h"
 #include "pb4u/util/eigen_tensor.h"
@@ -24,6 +25,16 @@
 
 namespace pb4u {
 namespace {
+
+// The state as the solver takes it: float64 (positions) on the CPU.
+FrameState on_cpu_float64(const FrameState& state) {
+  FrameState s = state;
+  for (torch::Tensor* t : {&s.x, &s.x_prev, &s.pin_targets, &s.body.vertices, &s.body.next_vertices})
+    if (t->defined()) *t = t->to(torch::kCPU, torch::kFloat64);
+  for (torch::Tensor* t : {&s.pinned, &s.body.faces})
+    if (t->defined()) *t = t->to(torch::kCPU);
+  return s;
+}
 
 // Global sample g of step `step`: its own RNG, independent of the rank that draws it.
 std::mt19937_64 sample_rng(int seed, int64_t step, int64_t g) {
@@ -200,6 +211,18 @@ Trainer::SampleResult Trainer::train_sample(std::mt19937_64& rng, int slot, int 
       x_carried = constrain_step(x_carried, state, contact ? &*contact : nullptr, topology_[vi],
                                  replay.strain_limit, replay.contact_projection);
       lap("replay: constrain the state carried on");
+    }
+    if (replay.refine_iterations > 0) {
+      const FrameState s = on_cpu_float64(state);
+      ReferenceSolverConfig solver = config_.physics.solver;
+      solver.contact = replay.refine_contact;
+      const std::optional<BodyContact> c64 = body_contact_for(s, config_.physics);
+      RefineConfig refine;
+      refine.iterations = replay.refine_iterations;
+      const torch::Tensor refined = refine_step(x_carried, s, refine_cloth_[size_t(vi)], build_terms(s.effects, config_.physics),
+                                                c64 ? &*c64 : nullptr, solver, refine);
+      x_carried = refined.to(x_carried.device(), x_carried.scalar_type());
+      lap("replay: refine the state carried on");
     }
     state.x_prev = state.x;
     state.x = x_carried;

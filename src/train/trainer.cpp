@@ -60,6 +60,9 @@ Trainer::Trainer(TrainConfig config, std::string config_yaml, TrainingData data,
       topology_.push_back(garment_topology_to(
           build_garment_topology(mesh, g.name, config_.model.graph_options().geodesic_anchors), device_));
       cloth_.push_back(make_cloth_geometry(mesh, torch::kFloat32, device_, false, config_.physics.degenerate_area));
+      if (config_.replay.refine_iterations > 0)
+        refine_cloth_.push_back(
+            make_cloth_geometry(mesh, torch::kFloat64, torch::kCPU, false, config_.physics.degenerate_area));
     }
     lbar += topology_[variant(gi, 0)].mean_edge_length / scales[0];
   }

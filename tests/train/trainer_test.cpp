@@ -1,6 +1,8 @@
 // Training on the tiny dataset: the loss falls, a stopped-and-resumed run matches an
 // uninterrupted one, the CLI writes its run files, and SIGKILL never leaves a bad checkpoint.
 #include <gtest/gtest.h>
+
+#include <iostream>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -176,22 +178,24 @@ TEST(Trainer, ProfiledStepsTimeTheirStagesAndTrainTheSame) {
 
 // replay.strain_limit / replay.contact_projection: the states the chains carry on are
 // constrained as inference constrains a step; without them the tiny model's chains stretch.
+// The largest edge strain over the active replay chains' states (some must be active).
+double largest_strain(Trainer& t, const TrainingData& data) {
+  double worst = 0;
+  int active = 0;
+  for (const auto& slot : t.replay_chains())
+    for (const Trajectory& tr : slot) {
+      if (!tr.active()) continue;
+      ++active;
+      const GarmentTopology topo = build_garment_topology(data.garments[tr.garment].mesh);
+      auto d = (tr.x.index_select(0, topo.receivers) - tr.x.index_select(0, topo.senders)).norm(2, 1);
+      worst = std::max(worst, (d / topo.rest_length - 1).max().item<double>());
+    }
+  EXPECT_GT(active, 0);
+  return worst;
+}
+
 TEST(Trainer, ReplayCarriesConstrainedStates) {
   configure_threads(1);
-  auto largest_strain = [](Trainer& t, const TrainingData& data) {
-    double worst = 0;
-    int active = 0;
-    for (const auto& slot : t.replay_chains())
-      for (const Trajectory& tr : slot) {
-        if (!tr.active()) continue;
-        ++active;
-        const GarmentTopology topo = build_garment_topology(data.garments[tr.garment].mesh);
-        auto d = (tr.x.index_select(0, topo.receivers) - tr.x.index_select(0, topo.senders)).norm(2, 1);
-        worst = std::max(worst, (d / topo.rest_length - 1).max().item<double>());
-      }
-    EXPECT_GT(active, 0);
-    return worst;
-  };
   const std::vector<std::string> sets = {"run.steps=30", "replay.chains=2", "replay.p_fresh=0.05"};
   TrainConfig plain_cfg = tiny_config(test::temp_dir("replay_plain"), sets);
   Trainer plain = make_trainer(plain_cfg);
@@ -205,6 +209,32 @@ TEST(Trainer, ReplayCarriesConstrainedStates) {
   constrained.run();
   // Limit then project, up to 10 rounds, ending within 1.1x the limit (step_constraints.h).
   EXPECT_LE(largest_strain(constrained, data), 0.11 + 1e-4);
+}
+
+// replay.refine_iterations: the states the chains carry on are refined by the solver, whose
+// stretch pulls the tiny model's stretched edges back in; the profile times it.
+TEST(Trainer, ReplayCarriesRefinedStates) {
+  configure_threads(1);
+  const std::vector<std::string> sets = {"run.steps=30", "replay.chains=2", "replay.p_fresh=0.05"};
+  TrainConfig plain_cfg = tiny_config(test::temp_dir("replay_plain_r"), sets);
+  Trainer plain = make_trainer(plain_cfg);
+  plain.run();
+  const TrainingData data = load_training_data(plain_cfg.data);
+  const double plain_strain = largest_strain(plain, data);
+  EXPECT_GT(plain_strain, 0.2);  // else this test shows nothing
+
+  auto refined_sets = sets;
+  refined_sets.push_back("replay.refine_iterations=10");
+  Trainer refined = make_trainer(tiny_config(test::temp_dir("replay_refined"), refined_sets));
+  StepProfile profile;
+  refined.set_profile(&profile);
+  refined.run();
+  const double refined_strain = largest_strain(refined, data);
+  EXPECT_LT(refined_strain, 0.5 * plain_strain) << plain_strain << " -> " << refined_strain;
+  EXPECT_NE(profile.table().find("| replay: refine the state carried on |"), std::string::npos);
+  for (const auto& slot : refined.replay_chains())
+    for (const Trajectory& tr : slot)
+      if (tr.active()) EXPECT_EQ(tr.x.scalar_type(), torch::kFloat32);  // back in the training dtype
 }
 
 TEST(StepProfile, MediansAndMeansPerStepWithAbsentStagesAsZero) {

@@ -29,8 +29,15 @@ struct RefineConfig {
   }
 };
 
-// `inner`'s step refined as `refine` says by the solver `solver` (its contact, barrier or
-// penalty, as configured). `log`, when given, gets the solver's account of each step.
+// One step x_step (n, 3) refined as `refine` says by the solver `solver` (its contact, barrier
+// or penalty, as configured): float64 on the CPU, as the state. `log`, when given, gets the
+// solver's account of the step.
+torch::Tensor refine_step(const torch::Tensor& x_step, const FrameState& state, const ClothGeometry& cloth,
+                          const TermList& terms, const BodyContact* contact, const ReferenceSolverConfig& solver,
+                          const RefineConfig& refine, ContactStepLog* log = nullptr);
+
+// `inner`'s step refined by refine_step. `log`, when given, gets the solver's account of each
+// step.
 StepFunction refined_stepper(StepFunction inner, const ReferenceSolverConfig& solver, const RefineConfig& refine,
                              std::shared_ptr<ContactStepLog> log = nullptr);
 

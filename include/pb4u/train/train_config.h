@@ -112,6 +112,12 @@ struct ReplayConfig {
   // the raw prediction's: the network is trained from sound states, not through the passes.
   double strain_limit = 0;
   double contact_projection = 0;
+  // > 0: the state carried on is then refined by this many reference-solver iterations
+  // (rollout/refined_step.h; the solver's contact `refine_contact`: penalty or barrier, the
+  // intersection-free one), with the sample's material and the final collision weight: the
+  // chains follow what a sound rollout reaches. Float64 on the CPU; the loss is unchanged.
+  int refine_iterations = 0;
+  std::string refine_contact = "penalty";
 
   template <class V>
   void visit(V& v) {
@@ -120,6 +126,8 @@ struct ReplayConfig {
     v("restart_energy", restart_energy, positive());
     v("strain_limit", strain_limit, in_range(0, 10));
     v("contact_projection", contact_projection, in_range(0, 1));
+    v("refine_iterations", refine_iterations, int_at_least(0));
+    v("refine_contact", refine_contact, one_of({"penalty", "barrier"}));
   }
   bool constrains() const { return strain_limit > 0 || contact_projection > 0; }
 };

@@ -123,6 +123,7 @@ class Trainer {
   // Per garment and data.scales factor, at variant(garment, scale).
   std::vector<GarmentTopology> topology_;
   std::vector<ClothGeometry> cloth_;
+  std::vector<ClothGeometry> refine_cloth_;  // float64 on the CPU, with replay.refine_iterations
   int variant(int garment, int scale) const { return garment * int(config_.data.scales.size()) + scale; }
   std::shared_ptr<DistributedGroup> group_;
   std::vector<std::string> term_names_;  // all terms, in Table-1 order: slots of the reduction
