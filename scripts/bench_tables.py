@@ -2,6 +2,7 @@
 """Print docs/performance.md's three bench tables from a `pb4u bench` run's bench_details.csv.
 
   /usr/bin/python3 scripts/bench_tables.py runs/bench/blender/bench_details.csv
+  /usr/bin/python3 scripts/bench_tables.py --networks runs/bench/baselines/bench_details.csv
 
 - Table 3: latency (median ms), total and positive loss (J per frame) and the share inside the
   body for Pb4U, MGN, the 100-iteration reference solver and Blender's two qualities.
@@ -11,6 +12,9 @@
   beside Pb4U.
 - Figure 5: the Pb4U weights at fixed K against the resolution-aware K, and the same weights
   with update scaling switched off at inference.
+With --networks, one table instead: every network row (configs/bench/baselines.yaml: each model
+alone and with the passes) with its latency and positive energy per level, and the growth of
+each from the first level to the last (a diverged run's energy is marked).
 Methods missing from a run leave "-" in their cells. The networks are found by family and name
 prefix, so "Pb4U + projection" (a model file with contact projection) counts as Pb4U.
 """
@@ -120,8 +124,45 @@ def main(path):
             fmt(own["positive_loss"]), fmt(best["positive_loss"]), fmt(field(no_us, "positive_loss"), 4)]) + " |")
 
 
+def networks(path):
+    rows = load(path)
+    levels = sorted({r["level"] for r in rows})
+    names = []
+    for r in rows:
+        if r["family"] == "network" and r["method"] not in names:
+            names.append(r["method"])
+    by = {(r["level"], r["method"]): r for r in rows if r["family"] == "network"}
+    tri = {lv: next(r["triangles"] for r in rows if r["level"] == lv) for lv in levels}
+    print("Latency (median ms per step) and positive energy (J per frame), per level\n")
+    head = ["method"] + [f"Lv.{lv} ({tri[lv]} tri) ms" for lv in levels] + [f"ms Lv.{levels[-1]} / Lv.{levels[0]}"]
+    head += [f"Lv.{lv} E+" for lv in levels] + [f"E+ Lv.{levels[-1]} / Lv.{levels[0]}"]
+    print("| " + " | ".join(head) + " |")
+    print("|" + "---|" * len(head))
+    for name in names:
+        cells = [name]
+        lat = [field(by.get((lv, name)), "latency_ms_median") for lv in levels]
+        cells += [ms(x) for x in lat]
+        cells.append(f"{lat[-1] / lat[0]:.2f}x" if lat[0] and lat[-1] else "-")
+        energy = []
+        for lv in levels:
+            r = by.get((lv, name))
+            energy.append(None if r is None else r["positive_loss"])
+            mark = " (diverged)" if r is not None and r["diverged"] else ""
+            cells.append(fmt(energy[-1]) + mark)
+        cells.append(f"{energy[-1] / energy[0]:.2f}x" if energy[0] and energy[-1] else "-")
+        print("| " + " | ".join(cells) + " |")
+
+
+def field(r, key):
+    return None if r is None else r[key]
+
+
 if __name__ == "__main__":
-    if len(sys.argv) != 2 or sys.argv[1] in ("-h", "--help"):
+    args = sys.argv[1:]
+    if len(args) == 2 and args[0] == "--networks":
+        networks(args[1])
+        sys.exit(0)
+    if len(args) != 1 or args[0] in ("-h", "--help"):
         print(__doc__.strip())
-        sys.exit(0 if len(sys.argv) == 2 else 2)
-    main(sys.argv[1])
+        sys.exit(0 if len(args) == 1 else 2)
+    main(args[0])
