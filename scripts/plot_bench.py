@@ -14,6 +14,7 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+import matplotlib.ticker  # noqa: E402
 
 
 def read(path):
@@ -72,13 +73,16 @@ def loss_vs_latency(rows, levels, out):
     # is the same for every method and would hide what separates them.
     y = "positive_loss"
     fig, axes = plt.subplots(1, len(levels), figsize=(3.6 * len(levels), 4.4), squeeze=False)
+    palette = list(plt.get_cmap("tab10").colors) + list(plt.get_cmap("Dark2").colors)
+    network_bases = list(dict.fromkeys(r["method"].split(" + ")[0] for r in rows
+                                       if r["family"] in ("network", "ablation")))
     for ax, level in zip(axes[0], levels):
         here = [r for r in rows if r["level"] == level and r["family"] != "no_body"
                 and finite(r[y]) and r[y] > 0 and finite(r["latency_ms_median"])]
         # One curve per family and, for the refined rows, per network ("MGN + 5 it" -> MGN).
         curves = [("reference", None, "s-", "0.4", "reference solver, penalty contact", "{} it"),
                   ("reference_barrier", None, "v-", "tab:purple", "reference solver, intersection-free", "{} it"),
-                  ("blender", None, "^-", "tab:orange", "Blender cloth", "q{}")]
+                  ("blender", None, "^-", "black", "Blender cloth", "q{}")]
         refined_colors = ["tab:green", "tab:red", "tab:brown", "tab:olive"]
         for name in dict.fromkeys(r["method"].rsplit(" + ", 1)[0] for r in here if r["family"] == "refined"):
             curves.append(("refined", name, "D-", refined_colors[len(curves) % len(refined_colors)],
@@ -97,12 +101,16 @@ def loss_vs_latency(rows, levels, out):
         if fk:
             ax.plot([r["latency_ms_median"] for r in fk], [r[y] for r in fk], ".:",
                     color="tab:blue", alpha=0.6, label="Pb4U, fixed K")
+        # A network's colour is its method's at every level; with passes ("X + ...") a square.
         for r in here:
             if r["family"] in ("network", "ablation"):
-                ax.plot([r["latency_ms_median"]], [r[y]], "o" if r["family"] == "network" else "x",
-                        ms=8, label=r["method"])
+                base = r["method"].split(" + ")[0]
+                marker = "x" if r["family"] == "ablation" else ("s" if base != r["method"] else "o")
+                ax.plot([r["latency_ms_median"]], [r[y]], marker, ms=8, label=r["method"],
+                        color=palette[network_bases.index(base) % len(palette)])
         ax.set_xscale("log")
         ax.set_yscale("log")
+        ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())  # no crowded minor labels
         ax.set_title(level_label(rows, level), fontsize=9)
         ax.set_xlabel("latency per frame (ms)")
         ax.grid(True, which="both", alpha=0.3)
@@ -124,11 +132,14 @@ def loss_vs_latency(rows, levels, out):
 
 
 def latency_vs_vertices(rows, out):
-    fig, ax = plt.subplots(figsize=(6.4, 4.2))
+    fig, ax = plt.subplots(figsize=(9.6, 4.4))
     methods = []
     for r in rows:
         if r["family"] != "fixed_k" and r["method"] not in methods:
             methods.append(r["method"])
+    # One colour per method, its passes or refinement ("X + ...") dashed in the same colour.
+    palette = list(plt.get_cmap("tab10").colors) + list(plt.get_cmap("Dark2").colors)
+    bases = list(dict.fromkeys(m.split(" + ")[0] for m in methods))
     for m in methods:
         pts = sorted((r["vertices"], r["latency_ms_median"]) for r in rows
                      if r["method"] == m and finite(r["latency_ms_median"]) and r["latency_ms_median"] > 0)
@@ -139,14 +150,16 @@ def latency_vs_vertices(rows, out):
         mx, my = sum(xs) / len(xs), sum(ys) / len(ys)
         sxx = sum((x - mx) ** 2 for x in xs)
         slope = sum((x - mx) * (y - my) for x, y in zip(xs, ys)) / sxx if sxx > 0 else float("nan")
-        ax.plot([p[0] for p in pts], [p[1] for p in pts], "o-", ms=4, label=f"{m}  (exponent {slope:.2f})")
+        base = m.split(" + ")[0]
+        ax.plot([p[0] for p in pts], [p[1] for p in pts], "o--" if base != m else "o-", ms=4,
+                color=palette[bases.index(base) % len(palette)], label=f"{m}  (exponent {slope:.2f})")
     ax.set_xscale("log")
     ax.set_yscale("log")
     ax.set_xlabel("garment vertices")
     ax.set_ylabel("latency per frame (ms)")
     ax.set_title("Latency vs resolution (log-log, fitted exponent)")
     ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=7)
+    ax.legend(fontsize=7, loc="center left", bbox_to_anchor=(1.01, 0.5))  # beside the axes, clear of the data
     fig.tight_layout()
     fig.savefig(out, dpi=130)
 
