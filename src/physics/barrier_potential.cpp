@@ -35,7 +35,7 @@ bool segment_crosses_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& q
 BarrierValue barrier_potential(const Eigen::MatrixXd& x, const Eigen::MatrixXi& cloth_edges,
                                const ContactSurface& body, const ContactCandidates& candidates,
                                const BarrierSettings& s, Eigen::MatrixXd* gradient,
-                               Eigen::VectorXd* curvature) {
+                               Eigen::VectorXd* curvature, CoordinateHessian* hessian) {
   BarrierValue out;
   out.min_distance = std::numeric_limits<double>::infinity();
   for_each_pair_distance(x, cloth_edges, body, candidates,
@@ -46,7 +46,8 @@ BarrierValue barrier_potential(const Eigen::MatrixXd& x, const Eigen::MatrixXi& 
     out.energy += s.stiffness * barrier(d.distance, s.d_hat);
     // Only the cloth's points move in the solve: the derivatives of the first one (vertex) or
     // two (edge) of the four points.
-    const double k = curvature ? s.stiffness * barrier_second_derivative(d.distance, s.d_hat) : 0;
+    const double k = (curvature || hessian) ? s.stiffness * barrier_second_derivative(d.distance, s.d_hat) : 0;
+    if (hessian) add_outer_product(points.data(), cloth_points, d.gradient.data(), k, hessian);
     const double scale = s.stiffness * barrier_derivative(d.distance, s.d_hat);
     for (int i = 0; i < cloth_points; ++i) {
       if (curvature) (*curvature)(points[i]) += k * d.gradient.segment<3>(3 * i).squaredNorm();

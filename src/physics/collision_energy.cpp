@@ -55,4 +55,9 @@ torch::Tensor CollisionTerm::contact_stiffness(const torch::Tensor& x_next, cons
   return 6 * weight_ * pb4u::penetration(x_next.detach(), *contact, eps_);
 }
 
+PhysicsTerm::ContactDirection CollisionTerm::contact_direction(const FrameState&, const BodyContact* contact) const {
+  if (!contact || measure_ == "surface") return {};
+  return {contact->normal, false};
+}
+
 }  // namespace pb4u

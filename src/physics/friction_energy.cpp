@@ -47,4 +47,9 @@ torch::Tensor FrictionTerm::contact_stiffness(const torch::Tensor& x_next, const
   return torch::where(contact->in_contact, k, torch::zeros_like(k));
 }
 
+PhysicsTerm::ContactDirection FrictionTerm::contact_direction(const FrameState&, const BodyContact* contact) const {
+  if (!contact) return {};
+  return {contact->normal, true};
+}
+
 }  // namespace pb4u

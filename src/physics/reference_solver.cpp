@@ -3,6 +3,7 @@
 #include <Eigen/SparseCholesky>
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <deque>
@@ -12,6 +13,8 @@
 #include "pb4u/physics/barrier_objective.h"
 #include "pb4u/physics/carried_by_body.h"
 #include "pb4u/physics/collision_energy.h"
+#include "pb4u/physics/coordinate_hessian.h"
+#include "pb4u/physics/elastic_hessian.h"
 #include "pb4u/physics/energy_report.h"
 #include "pb4u/physics/intersection_free_start.h"
 #include "pb4u/physics/quasi_newton_hessian.h"
@@ -30,6 +33,9 @@ constexpr int kMaxBodyMoves = 24;
 // Rounds of Provot's pass and the push out of the body that make a start both intersection-free
 // and within the strain limit (solver.strain_limit).
 constexpr int kStartRounds = 10;
+// m^2: below this a hinge counts as collapsed in the Newton step's bending Hessian (the default
+// physics.degenerate_area; the Hessian only shapes the step, the energy keeps the scene's).
+constexpr double kBendingDegenerateArea = 1e-14;
 
 // The rows `free` of an n x 3 matrix, flat (3 x free rows): the solver's coordinates.
 torch::Tensor free_coordinates(const Eigen::MatrixXd& rows, const torch::Tensor& free, const torch::TensorOptions& opts) {
@@ -62,24 +68,50 @@ torch::Tensor lbfgs_direction(const torch::Tensor& g, const std::deque<Pair>& hi
 }
 
 // The elastic initial Hessian: the per-frame part (inertia + membrane) plus the contacts'
-// current curvature on the diagonal, refactorised (same sparsity) only when contacts change it.
+// current curvature, refactorised only when contacts change it. Shared by x, y and z (k x k),
+// or, with the barriers' Hessian blocks, on the coordinates (3k x 3k, coordinate_hessian.h).
 struct ElasticSolve {
   Eigen::SparseMatrix<double> base;
+  std::vector<int> row_of_vertex;
+  bool coordinates = false;
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt;
+  std::vector<int> pattern_outer, pattern_inner;  // of the last analysed coordinate Hessian
 
-  void factorize(const torch::Tensor& contact_diagonal) {
-    Eigen::SparseMatrix<double> H = base;
+  void factorize(const torch::Tensor& contact_diagonal, const CoordinateHessian& blocks) {
+    Eigen::VectorXd diagonal;
     if (contact_diagonal.defined()) {
       torch::Tensor c = contact_diagonal.detach().to(torch::kCPU, torch::kFloat64).contiguous();
-      H.diagonal() += Eigen::Map<const Eigen::VectorXd>(c.data_ptr<double>(), c.numel());
+      diagonal = Eigen::Map<const Eigen::VectorXd>(c.data_ptr<double>(), c.numel());
     }
-    ldlt.factorize(H);
+    if (coordinates) {
+      const Eigen::SparseMatrix<double> H = coordinate_hessian(base, diagonal, blocks, row_of_vertex);
+      // The ordering is redone only when the pattern changed (a Newton step's elastic pattern
+      // stays; contact pairs only add blocks where cloth vertices already share a face).
+      const bool same = pattern_outer.size() == size_t(H.outerSize() + 1) &&
+                        std::equal(pattern_outer.begin(), pattern_outer.end(), H.outerIndexPtr()) &&
+                        pattern_inner.size() == size_t(H.nonZeros()) &&
+                        std::equal(pattern_inner.begin(), pattern_inner.end(), H.innerIndexPtr());
+      if (!same) {
+        ldlt.analyzePattern(H);
+        pattern_outer.assign(H.outerIndexPtr(), H.outerIndexPtr() + H.outerSize() + 1);
+        pattern_inner.assign(H.innerIndexPtr(), H.innerIndexPtr() + H.nonZeros());
+      }
+      ldlt.factorize(H);
+    } else {
+      Eigen::SparseMatrix<double> H = base;
+      if (diagonal.size()) H.diagonal() += diagonal;
+      ldlt.factorize(H);
+    }
     if (ldlt.info() != Eigen::Success)
       throw Error("reference solver: the elastic initial Hessian is not positive definite");
   }
   torch::Tensor operator()(const torch::Tensor& r) const {
     torch::Tensor c = r.detach().to(torch::kCPU, torch::kFloat64).contiguous();
     const Eigen::Index k = c.numel() / 3;
+    if (coordinates) {
+      Eigen::VectorXd X = ldlt.solve(Eigen::Map<const Eigen::VectorXd>(c.data_ptr<double>(), 3 * k));
+      return torch::from_blob(X.data(), {k * 3}, torch::kFloat64).to(r.options()).clone();
+    }
     Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>> R(c.data_ptr<double>(), k, 3);
     Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> X = ldlt.solve(R);
     return torch::from_blob(X.data(), {k * 3}, torch::kFloat64).to(r.options()).clone();
@@ -257,13 +289,34 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
                         .repeat_interleave(3).to(opts);
   InverseHessian initial;
   std::shared_ptr<ElasticSolve> elastic;
-  if (config.initial_hessian == "elastic") {
-    std::vector<int> row(n, -1);
+  const bool newton = config.step == "newton";
+  std::vector<int> row(n, -1);
+  {
     torch::Tensor free_cpu = free.to(torch::kCPU);
     for (int64_t k = 0; k < nf; ++k) row[free_cpu[k].item<int64_t>()] = static_cast<int>(k);
+  }
+  if (newton) {
+    // The inertia M / dt^2 (a massless vertex: 1 N/m, as in quasi_newton_hessian.h); the
+    // elastic terms' Hessian at the current state joins it every iteration.
+    const torch::Tensor mass = cloth.vertex_masses(state.material.density).to(torch::kCPU, torch::kFloat64).contiguous();
+    std::vector<Eigen::Triplet<double>> inertia;
+    for (int64_t v = 0; v < n; ++v)
+      if (row[size_t(v)] >= 0) {
+        const double mv = mass.data_ptr<double>()[v];
+        inertia.emplace_back(row[size_t(v)], row[size_t(v)], mv > 0 ? mv / (state.dt * state.dt) : 1.0);
+      }
+    elastic = std::make_shared<ElasticSolve>();
+    elastic->base.resize(nf, nf);
+    elastic->base.setFromTriplets(inertia.begin(), inertia.end());
+    elastic->row_of_vertex = row;
+    elastic->coordinates = true;
+    initial = [elastic](const torch::Tensor& r, const std::deque<Pair>&) { return (*elastic)(r); };
+  } else if (config.initial_hessian == "elastic") {
     elastic = std::make_shared<ElasticSolve>();
     elastic->base = quasi_newton_hessian(cloth, state.material, state.dt, row);
-    elastic->ldlt.analyzePattern(elastic->base);
+    elastic->row_of_vertex = row;
+    elastic->coordinates = (barrier || strain) && config.barrier_hessian == "blocks";
+    if (!elastic->coordinates) elastic->ldlt.analyzePattern(elastic->base);
     initial = [elastic](const torch::Tensor& r, const std::deque<Pair>&) { return (*elastic)(r); };
   } else {
     // Scaled by the newest curvature pair, as in standard L-BFGS.
@@ -275,24 +328,40 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
       return gamma * P * r;
     };
   }
-  // Sum of the terms' contact curvature at the free vertices (undefined without contacts).
-  auto contact_diagonal = [&](const torch::Tensor& q) {
+  // Sum of the terms' contact curvature at the free vertices (undefined without contacts); the
+  // barriers' goes into *blocks instead when given.
+  auto contact_diagonal = [&](const torch::Tensor& q, CoordinateHessian* blocks) {
     torch::Tensor x = x_base.index_copy(0, free, q.detach().reshape({nf, 3}));
     torch::Tensor sum;
     for (const auto& term : terms) {
       if (barrier && term->name() == "collision") continue;
       torch::Tensor c = term->contact_stiffness(x, state, cloth, contact);
-      if (c.defined()) sum = sum.defined() ? sum + c : c;
+      if (!c.defined()) continue;
+      const PhysicsTerm::ContactDirection direction = blocks ? term->contact_direction(state, contact) : PhysicsTerm::ContactDirection{};
+      if (direction.normal.defined()) {  // stiff along the normal only, or across it only
+        add_directional_stiffness(tensor_to_matrix(c.reshape({-1, 1})).col(0), tensor_to_matrix(direction.normal),
+                                  direction.across, blocks);
+        continue;
+      }
+      sum = sum.defined() ? sum + c : c;
     }
     if (fallback.active()) {  // the penalty's curvature, at the vertices it holds
       const torch::Tensor c = fallback.stiffness(x, state, cloth, contact);
       sum = sum.defined() ? sum + c : c;
     }
+    if (newton) {  // the elastic terms' Hessian at the current state
+      const Eigen::MatrixXd X = positions(q);
+      for (const auto& term : terms) {
+        if (term->name() == "stretch") add_stretch_hessian(X, cloth, state.material, blocks);
+        if (term->name() == "bending") add_bending_hessian(X, cloth, state.material, kBendingDegenerateArea, blocks);
+      }
+    }
     if (barrier || strain) {
       const Eigen::MatrixXd X = positions(q);
       Eigen::VectorXd curvature = Eigen::VectorXd::Zero(n);
-      if (barrier) barrier_potential(X, barrier->cloth_edges, body, candidates, settings, nullptr, &curvature);
-      if (strain) strain_barrier(X, strain_edges, rest_length, strain_settings, strain_excluded, nullptr, &curvature);
+      Eigen::VectorXd* diagonal = blocks ? nullptr : &curvature;
+      if (barrier) barrier_potential(X, barrier->cloth_edges, body, candidates, settings, nullptr, diagonal, blocks);
+      if (strain) strain_barrier(X, strain_edges, rest_length, strain_settings, strain_excluded, nullptr, diagonal, blocks);
       if (curvature.maxCoeff() > 0) {
         torch::Tensor c = torch::from_blob(curvature.data(), {n}, torch::kFloat64).clone().to(opts);
         sum = sum.defined() ? sum + c : c;
@@ -301,6 +370,7 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
     return sum.defined() ? sum.index_select(0, free) : sum;
   };
   bool factorized = false;
+  bool had_blocks = false;  // the last factorisation held barrier blocks
 
   torch::Tensor q = x_base.index_select(0, free).reshape({-1});
   torch::Tensor g;
@@ -354,9 +424,11 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
   };
   while (nf > 0) {
     if (elastic) {
-      torch::Tensor c = contact_diagonal(q);
-      if (!factorized || c.defined()) elastic->factorize(c);
+      CoordinateHessian blocks;
+      torch::Tensor c = contact_diagonal(q, elastic->coordinates ? &blocks : nullptr);
+      if (!factorized || newton || c.defined() || !blocks.empty() || had_blocks) elastic->factorize(c, blocks);
       factorized = true;
+      had_blocks = !blocks.empty();
     }
     bool body_moved = false;
     if (barrier && move_body()) {
@@ -435,7 +507,7 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
     }
     torch::Tensor s = q_new - q, y = g_new - g;
     double sy = torch::dot(s, y).item<double>();
-    if (sy > 0) {  // keep the inverse-Hessian estimate positive definite
+    if (sy > 0 && !newton) {  // keep the inverse-Hessian estimate positive definite
       history.push_back({s, y, 1.0 / sy});
       if (static_cast<int>(history.size()) > config.history) history.pop_front();
     }

@@ -17,7 +17,8 @@ double barrier_d2(double g, double g_hat) {
 
 StrainBarrierValue strain_barrier(const Eigen::MatrixXd& x, const Eigen::MatrixXi& edges, const Eigen::VectorXd& rest,
                                   const StrainBarrierSettings& s, const std::vector<char>& excluded,
-                                  Eigen::MatrixXd* gradient, Eigen::VectorXd* curvature) {
+                                  Eigen::MatrixXd* gradient, Eigen::VectorXd* curvature,
+                                  CoordinateHessian* hessian) {
   StrainBarrierValue out;
   for (Eigen::Index e = 0; e < edges.rows(); ++e) {
     if (!excluded.empty() && excluded[size_t(e)]) continue;
@@ -45,6 +46,20 @@ StrainBarrierValue strain_barrier(const Eigen::MatrixXd& x, const Eigen::MatrixX
       const double c = s.stiffness * barrier_d2(g, s.gap) / (rest(e) * rest(e));
       (*curvature)(i) += c;
       (*curvature)(j) += c;
+    }
+    if (hessian) {
+      const Eigen::Vector3d u = d.transpose() / length;
+      const Eigen::Matrix3d along = u * u.transpose();
+      const Eigen::Matrix3d A =
+          s.stiffness * (barrier_d2(g, s.gap) / (rest(e) * rest(e)) * along -
+                         barrier_d1(g, s.gap) / (rest(e) * length) * (Eigen::Matrix3d::Identity() - along));
+      for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < 3; ++b) {
+          hessian->emplace_back(3 * i + a, 3 * i + b, A(a, b));
+          hessian->emplace_back(3 * j + a, 3 * j + b, A(a, b));
+          hessian->emplace_back(3 * i + a, 3 * j + b, -A(a, b));
+          hessian->emplace_back(3 * j + a, 3 * i + b, -A(a, b));
+        }
     }
   }
   return out;

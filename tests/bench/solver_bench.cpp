@@ -4,6 +4,7 @@
 // same next frame is solved with every budget; timings are medians of repeated solves.
 // Usage: solver_bench [warm-up frames = 6] [repeats = 5] [threads = 0 (all)] [history = config]
 //                     [largest grid = 40] [initial Hessian = elastic | inertia]
+//                     [step = quasi_newton | newton] [contact = penalty | barrier]
 #include <torch/torch.h>
 
 #include <algorithm>
@@ -28,6 +29,8 @@ int main(int argc, char** argv) {
   const int history = argc > 4 ? std::atoi(argv[4]) : ReferenceSolverConfig{}.history;
   const int largest = argc > 5 ? std::atoi(argv[5]) : 40;
   const std::string initial = argc > 6 ? argv[6] : ReferenceSolverConfig{}.initial_hessian;
+  const std::string step = argc > 7 ? argv[7] : ReferenceSolverConfig{}.step;
+  const std::string contact = argc > 8 ? argv[8] : ReferenceSolverConfig{}.contact;
   std::vector<int> resolutions;
   for (int n : {10, 20, 40})
     if (n <= largest) resolutions.push_back(n);
@@ -36,8 +39,8 @@ int main(int argc, char** argv) {
 
   const int subdivisions = 4;
   std::printf("solver_bench: cloth 0.6 m square dropped on a sphere (r = %.2f m, %d faces), "
-              "float64, %d threads, L-BFGS history %d, initial Hessian %s\n", radius,
-              20 << (2 * subdivisions), threads, history, initial.c_str());
+              "float64, %d threads, L-BFGS history %d, initial Hessian %s, step %s, contact %s\n", radius,
+              20 << (2 * subdivisions), threads, history, initial.c_str(), step.c_str(), contact.c_str());
   std::printf("| grid | vertices | triangles | budget | iterations | evaluations | ms/frame (median) | energy (J) | "
               "energy - best (J) | max grad (N) | step (m) | converged |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (int n : resolutions) {
@@ -47,6 +50,8 @@ int main(int argc, char** argv) {
     PhysicsConfig config;
     config.solver.history = history;
     config.solver.initial_hessian = initial;
+    config.solver.step = step;
+    config.solver.contact = contact;
     TermList terms = build_terms(state.effects, config);
     config.solver.max_iterations = budgets.back();
     for (int f = 0; f < warmup; ++f) {

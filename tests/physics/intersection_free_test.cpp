@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <limits>
 #include <random>
+#include <string>
 
 #include "pb4u/mesh/edges.h"
 #include "pb4u/physics/barrier_potential.h"
@@ -210,30 +211,57 @@ struct ClothOverSphere {
 };
 
 TEST(IntersectionFreeSolver, ClothDroppedOnASphereComesToRestOutsideIt) {
-  ClothOverSphere scene(0.01);
-  const double radius = scene.radius;
-  FrameState& state = scene.state;
-  const ClothGeometry& cloth = scene.cloth;
-  const Eigen::MatrixXi& edges = scene.edges;
-  const Eigen::MatrixXd body_V = tensor_to_matrix(state.body.vertices);
-  const TriMesh& sphere = scene.sphere;
-  const PhysicsConfig config = barrier_config();
-  double kinetic = 0;
-  for (int frame = 0; frame < 30; ++frame) {
-    const SolverResult r = barrier_step(state, cloth, config);
-    const Freedom f = freedom(tensor_to_matrix(state.x), edges, body_V, sphere.F);
-    ASSERT_GT(f.min_distance, 0) << "frame " << frame;
-    ASSERT_EQ(f.edges_through, 0) << "frame " << frame;
-    EXPECT_EQ(r.excluded, 0);
-    EXPECT_EQ(r.body_lag, 0);  // the sphere stands still: never placed
-    EXPECT_GT(r.min_distance, 0);
-    kinetic = 0.5 * (cloth.vertex_masses(state.material.density) * state.velocity().pow(2).sum(1)).sum().item<double>();
+  for (const std::string step : {"quasi_newton", "newton"}) {
+    SCOPED_TRACE(step);
+    ClothOverSphere scene(0.01);
+    const double radius = scene.radius;
+    FrameState& state = scene.state;
+    const ClothGeometry& cloth = scene.cloth;
+    const Eigen::MatrixXi& edges = scene.edges;
+    const Eigen::MatrixXd body_V = tensor_to_matrix(state.body.vertices);
+    const TriMesh& sphere = scene.sphere;
+    PhysicsConfig config = barrier_config();
+    config.solver.step = step;
+    double kinetic = 0;
+    for (int frame = 0; frame < 30; ++frame) {
+      const SolverResult r = barrier_step(state, cloth, config);
+      const Freedom f = freedom(tensor_to_matrix(state.x), edges, body_V, sphere.F);
+      ASSERT_GT(f.min_distance, 0) << "frame " << frame;
+      ASSERT_EQ(f.edges_through, 0) << "frame " << frame;
+      EXPECT_EQ(r.excluded, 0);
+      EXPECT_EQ(r.body_lag, 0);  // the sphere stands still: never placed
+      EXPECT_GT(r.min_distance, 0);
+      kinetic = 0.5 * (cloth.vertex_masses(state.material.density) * state.velocity().pow(2).sum(1)).sum().item<double>();
+    }
+    // At rest on top of the sphere, within the barrier's reach of its pole.
+    const double centre_y = state.x[24][1].item<double>();
+    EXPECT_GT(centre_y, radius * 0.99);  // the icosphere's pole is at the radius
+    EXPECT_LT(centre_y, radius + 0.005);
+    EXPECT_LT(kinetic, 1e-4);
   }
-  // At rest on top of the sphere, within the barrier's reach of its pole.
-  const double centre_y = state.x[24][1].item<double>();
-  EXPECT_GT(centre_y, radius * 0.99);  // the icosphere's pole is at the radius
-  EXPECT_LT(centre_y, radius + 0.005);
-  EXPECT_LT(kinetic, 1e-4);
+}
+
+TEST(IntersectionFreeSolver, NewtonReachesTheQuasiNewtonMinimumInFewerIterations) {
+  // The cloth settled on the sphere for 10 frames, then one step both ways at a fixed kappa
+  // (the same objective), each allowed 1000 iterations.
+  ClothOverSphere scene(0.005);
+  PhysicsConfig config = barrier_config();
+  config.solver.barrier_stiffness_max = 0;
+  config.solver.max_iterations = 1000;
+  for (int frame = 0; frame < 10; ++frame) barrier_step(scene.state, scene.cloth, config);
+  const TermList terms = build_terms(scene.state.effects, config);
+  config.solver.step = "quasi_newton";
+  const SolverResult quasi = solve_reference_frame(scene.state, scene.cloth, terms, config);
+  config.solver.step = "newton";
+  const SolverResult newton = solve_reference_frame(scene.state, scene.cloth, terms, config);
+  ASSERT_TRUE(quasi.converged);
+  ASSERT_TRUE(newton.converged);
+  EXPECT_GT(newton.min_distance, 0);
+  EXPECT_LE(newton.energy, quasi.energy + 1e-7 * std::abs(quasi.energy)) << newton.energy - quasi.energy;
+  std::printf("quasi-Newton %d iterations, Newton %d, energy gap %.3g J\n", quasi.iterations, newton.iterations,
+              newton.energy - quasi.energy);
+  EXPECT_LT(newton.iterations, quasi.iterations);
+  EXPECT_LT((newton.x_next - quasi.x_next).abs().max().item<double>(), 1e-5);  // m
 }
 
 TEST(StepResidual, BarrierContactIsMeasuredAgainstTheIntersectionFreeSolversOwnMinimum) {
@@ -365,19 +393,24 @@ TEST(RefinedStep, AnyIterationCountEndsFreeOfTheBodyAndMoreIterationsNeverRaiseT
     return e + barrier_potential(X, edges, body, contact_candidates(X, {}, edges, body, {}, settings.d_hat), settings)
                    .energy;
   };
-  double last = std::numeric_limits<double>::infinity();
-  for (const int n : {0, 1, 2, 5, 20}) {
-    RefineConfig refine;
-    refine.iterations = n;
-    auto log = std::make_shared<ContactStepLog>();
-    const torch::Tensor x = refined_stepper(into_the_body, config.solver, refine, log)(state, cloth, terms, &*contact);
-    const Freedom f = freedom(tensor_to_matrix(x), edges, sphere.V, sphere.F);
-    EXPECT_GT(f.min_distance, 0) << n << " iterations";
-    EXPECT_EQ(f.edges_through, 0) << n << " iterations";
-    EXPECT_EQ(log->excluded, 0) << n << " iterations";
-    const double p = potential(x);
-    EXPECT_LE(p, last + 1e-12 * std::abs(last)) << n << " iterations";
-    last = p;
+  for (const std::string step : {"quasi_newton", "newton"}) {
+    SCOPED_TRACE(step);
+    PhysicsConfig stepping = config;
+    stepping.solver.step = step;
+    double last = std::numeric_limits<double>::infinity();
+    for (const int n : {0, 1, 2, 5, 20}) {
+      RefineConfig refine;
+      refine.iterations = n;
+      auto log = std::make_shared<ContactStepLog>();
+      const torch::Tensor x = refined_stepper(into_the_body, stepping.solver, refine, log)(state, cloth, terms, &*contact);
+      const Freedom f = freedom(tensor_to_matrix(x), edges, sphere.V, sphere.F);
+      EXPECT_GT(f.min_distance, 0) << n << " iterations";
+      EXPECT_EQ(f.edges_through, 0) << n << " iterations";
+      EXPECT_EQ(log->excluded, 0) << n << " iterations";
+      const double p = potential(x);
+      EXPECT_LE(p, last + 1e-12 * std::abs(last)) << n << " iterations";
+      last = p;
+    }
   }
 }
 

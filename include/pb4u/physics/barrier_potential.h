@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "pb4u/physics/contact_candidates.h"
+#include "pb4u/physics/coordinate_hessian.h"
 
 namespace pb4u {
 
@@ -26,12 +27,14 @@ struct BarrierValue {
 };
 
 // The potential at cloth positions x (n x 3) against `body` over `candidates`; its gradient
-// (n x 3, J/m) is added into *gradient when given (sized n x 3), and a per-vertex isotropic
-// curvature (n, N/m: kappa b''(d) |grad_i d|^2, the Gauss-Newton diagonal) into *curvature.
+// (n x 3, J/m) is added into *gradient when given (sized n x 3), a per-vertex isotropic
+// curvature (n, N/m: kappa b''(d) |grad_i d|^2, the Gauss-Newton diagonal) into *curvature, and
+// the Gauss-Newton Hessian kappa b''(d) grad d grad d^T over each pair's cloth coordinates (N/m,
+// positive semidefinite; the dropped kappa b'(d) Hess d is negative semidefinite) into *hessian.
 BarrierValue barrier_potential(const Eigen::MatrixXd& x, const Eigen::MatrixXi& cloth_edges,
                                const ContactSurface& body, const ContactCandidates& candidates,
                                const BarrierSettings& settings, Eigen::MatrixXd* gradient = nullptr,
-                               Eigen::VectorXd* curvature = nullptr);
+                               Eigen::VectorXd* curvature = nullptr, CoordinateHessian* hessian = nullptr);
 
 // The largest fraction t in [0, 1] of a step, cloth by dx and body by body_motion (empty:
 // still), that keeps every candidate pair apart (additive CCD per pair, the smallest time).

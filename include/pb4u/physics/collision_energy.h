@@ -27,6 +27,8 @@ class CollisionTerm : public PhysicsTerm {
   torch::Tensor contact_stiffness(const torch::Tensor& x_next, const FrameState& state,
                                   const ClothGeometry& cloth,
                                   const BodyContact* contact) const override;
+  // Along the contact face's normal (the penalty acts along it; isotropic with the surface measure).
+  ContactDirection contact_direction(const FrameState& state, const BodyContact* contact) const override;
   double weight() const { return weight_; }
   double eps() const { return eps_; }
 

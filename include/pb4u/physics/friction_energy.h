@@ -24,6 +24,8 @@ class FrictionTerm : public PhysicsTerm {
   torch::Tensor contact_stiffness(const torch::Tensor& x_next, const FrameState& state,
                                   const ClothGeometry& cloth,
                                   const BodyContact* contact) const override;
+  // Along the contact face's normal (friction acts across it).
+  ContactDirection contact_direction(const FrameState& state, const BodyContact* contact) const override;
 
  private:
   FrictionConfig config_;

@@ -104,6 +104,15 @@ struct ReferenceSolverConfig {
   double strain_limit = 0;
   double strain_barrier_gap = 0.01;
   double strain_barrier_stiffness = 1.0;  // J
+  // How the barriers' curvature (contact, strain) enters the elastic initial Hessian: "blocks"
+  // = their Hessians on the coordinates (coordinate_hessian.h; stiff along a contact's normal
+  // and an edge's direction, free across), "diagonal" = one isotropic value per vertex.
+  std::string barrier_hessian = "blocks";
+  // The step: "quasi_newton" = L-BFGS from the initial Hessian above; "newton" = projected
+  // Newton: each iteration solves with the Hessian at the current state (elastic_hessian.h:
+  // inertia, StVK projected per face, bending Gauss-Newton; the contacts' curvature and the
+  // barriers' blocks), no curvature history.
+  std::string step = "quasi_newton";
 
   template <class V>
   void visit(V& v) {
@@ -121,6 +130,8 @@ struct ReferenceSolverConfig {
     v("strain_limit", strain_limit, non_negative());
     v("strain_barrier_gap", strain_barrier_gap, positive());
     v("strain_barrier_stiffness", strain_barrier_stiffness, positive());
+    v("barrier_hessian", barrier_hessian, one_of({"blocks", "diagonal"}));
+    v("step", step, one_of({"quasi_newton", "newton"}));
   }
 };
 

@@ -34,6 +34,17 @@ class PhysicsTerm {
                                           const BodyContact* contact) const {
     return {};
   }
+  // The direction contact_stiffness acts in, for a solver that keeps directions
+  // (coordinate_hessian.h): per vertex unit normals (n, 3); `across` false for k n n^T (a
+  // normal contact), true for k (I - n n^T) (tangential friction). Undefined normals (the
+  // default): isotropic, k I.
+  struct ContactDirection {
+    torch::Tensor normal;
+    bool across = false;
+  };
+  virtual ContactDirection contact_direction(const FrameState& state, const BodyContact* contact) const {
+    return {};
+  }
 };
 
 using TermList = std::vector<std::unique_ptr<PhysicsTerm>>;

@@ -11,6 +11,8 @@
 
 #include <vector>
 
+#include "pb4u/physics/coordinate_hessian.h"
+
 namespace pb4u {
 
 struct StrainBarrierSettings {
@@ -27,11 +29,15 @@ struct StrainBarrierValue {
 
 // edges: e x 2 (unique cloth edges); rest: e rest lengths (m); excluded: per edge, 1 to leave
 // it out (over the limit where the step started), or empty. Infinite energy when an edge not
-// excluded is at or past the limit. The gradient (n x 3, J/m) is added into *gradient, and a
-// per-vertex isotropic curvature (n, N/m: kappa b''(g) |dg/dx_i|^2) into *curvature.
+// excluded is at or past the limit. The gradient (n x 3, J/m) is added into *gradient, a
+// per-vertex isotropic curvature (n, N/m: kappa b''(g) |dg/dx_i|^2) into *curvature, and the
+// exact Hessian (N/m) into *hessian: per edge, with n its direction,
+//   A = kappa (b''(g) / L^2 n n^T - b'(g) / (L |x_i - x_j|) (I - n n^T))
+// at (i, i) and (j, j), -A at (i, j) and (j, i); positive semidefinite, since b' < 0.
 StrainBarrierValue strain_barrier(const Eigen::MatrixXd& x, const Eigen::MatrixXi& edges, const Eigen::VectorXd& rest,
                                   const StrainBarrierSettings& settings, const std::vector<char>& excluded,
-                                  Eigen::MatrixXd* gradient = nullptr, Eigen::VectorXd* curvature = nullptr);
+                                  Eigen::MatrixXd* gradient = nullptr, Eigen::VectorXd* curvature = nullptr,
+                                  CoordinateHessian* hessian = nullptr);
 
 // The largest fraction t in [0, 1] of the step dx that keeps every edge not excluded short of
 // the limit: 0.8 of the exact fraction at which the first would reach it (IPC's margin, so a
