@@ -74,9 +74,7 @@ void add_stretch_hessian(const Eigen::MatrixXd& x, const ClothGeometry& cloth, c
         for (int r = 0; r < 3; ++r) B(3 * c + r, 3 * a + r) = g[a][c];
     const Eigen::Matrix<double, 9, 9> Hx = B.transpose() * projected * B;
     for (int a = 0; a < 3; ++a)
-      for (int b = 0; b < 3; ++b)
-        for (int i = 0; i < 3; ++i)
-          for (int j = 0; j < 3; ++j) hessian->emplace_back(3 * v[a] + i, 3 * v[b] + j, Hx(3 * a + i, 3 * b + j));
+      for (int b = 0; b < 3; ++b) hessian->add(v[a], v[b], Hx.block<3, 3>(3 * a, 3 * b));
   }
 }
 

@@ -74,17 +74,19 @@ struct ElasticSolve {
   Eigen::SparseMatrix<double> base;
   std::vector<int> row_of_vertex;
   bool coordinates = false;
+  CoordinateHessian hessian;  // coordinates only: what the contacts (and a Newton step) add to base
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt;
   std::vector<int> pattern_outer, pattern_inner;  // of the last analysed coordinate Hessian
 
-  void factorize(const torch::Tensor& contact_diagonal, const CoordinateHessian& blocks) {
+  void factorize(const torch::Tensor& contact_diagonal) {
     Eigen::VectorXd diagonal;
     if (contact_diagonal.defined()) {
       torch::Tensor c = contact_diagonal.detach().to(torch::kCPU, torch::kFloat64).contiguous();
       diagonal = Eigen::Map<const Eigen::VectorXd>(c.data_ptr<double>(), c.numel());
     }
     if (coordinates) {
-      const Eigen::SparseMatrix<double> H = coordinate_hessian(base, diagonal, blocks, row_of_vertex);
+      add_shared(base, diagonal, row_of_vertex, &hessian);
+      const Eigen::SparseMatrix<double> H = hessian.matrix(row_of_vertex);
       // The ordering is redone only when the pattern changed (a Newton step's elastic pattern
       // stays; contact pairs only add blocks where cloth vertices already share a face).
       const bool same = pattern_outer.size() == size_t(H.outerSize() + 1) &&
@@ -310,12 +312,14 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
     elastic->base.setFromTriplets(inertia.begin(), inertia.end());
     elastic->row_of_vertex = row;
     elastic->coordinates = true;
+    elastic->hessian = CoordinateHessian(int(n));
     initial = [elastic](const torch::Tensor& r, const std::deque<Pair>&) { return (*elastic)(r); };
   } else if (config.initial_hessian == "elastic") {
     elastic = std::make_shared<ElasticSolve>();
     elastic->base = quasi_newton_hessian(cloth, state.material, state.dt, row);
     elastic->row_of_vertex = row;
     elastic->coordinates = (barrier || strain) && config.barrier_hessian == "blocks";
+    elastic->hessian = CoordinateHessian(int(n));
     if (!elastic->coordinates) elastic->ldlt.analyzePattern(elastic->base);
     initial = [elastic](const torch::Tensor& r, const std::deque<Pair>&) { return (*elastic)(r); };
   } else {
@@ -424,11 +428,16 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
   };
   while (nf > 0) {
     if (elastic) {
-      CoordinateHessian blocks;
-      torch::Tensor c = contact_diagonal(q, elastic->coordinates ? &blocks : nullptr);
-      if (!factorized || newton || c.defined() || !blocks.empty() || had_blocks) elastic->factorize(c, blocks);
+      CoordinateHessian* blocks = nullptr;
+      if (elastic->coordinates) {
+        elastic->hessian.clear();
+        blocks = &elastic->hessian;
+      }
+      torch::Tensor c = contact_diagonal(q, blocks);
+      const bool any_blocks = blocks && !blocks->empty();
+      if (!factorized || newton || c.defined() || any_blocks || had_blocks) elastic->factorize(c);
       factorized = true;
-      had_blocks = !blocks.empty();
+      had_blocks = any_blocks;
     }
     bool body_moved = false;
     if (barrier && move_body()) {

@@ -53,13 +53,10 @@ StrainBarrierValue strain_barrier(const Eigen::MatrixXd& x, const Eigen::MatrixX
       const Eigen::Matrix3d A =
           s.stiffness * (barrier_d2(g, s.gap) / (rest(e) * rest(e)) * along -
                          barrier_d1(g, s.gap) / (rest(e) * length) * (Eigen::Matrix3d::Identity() - along));
-      for (int a = 0; a < 3; ++a)
-        for (int b = 0; b < 3; ++b) {
-          hessian->emplace_back(3 * i + a, 3 * i + b, A(a, b));
-          hessian->emplace_back(3 * j + a, 3 * j + b, A(a, b));
-          hessian->emplace_back(3 * i + a, 3 * j + b, -A(a, b));
-          hessian->emplace_back(3 * j + a, 3 * i + b, -A(a, b));
-        }
+      hessian->add(i, i, A);
+      hessian->add(j, j, A);
+      hessian->add(i, j, -A);
+      hessian->add(j, i, -A);
     }
   }
   return out;

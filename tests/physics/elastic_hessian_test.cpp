@@ -21,10 +21,11 @@
 namespace pb4u {
 namespace {
 
-Eigen::MatrixXd dense(const CoordinateHessian& entries, Eigen::Index size) {
-  Eigen::SparseMatrix<double> H(size, size);
-  H.setFromTriplets(entries.begin(), entries.end());
-  return Eigen::MatrixXd(H);
+// Every vertex kept, in order.
+Eigen::MatrixXd dense(const CoordinateHessian& hessian) {
+  std::vector<int> rows(size_t(hessian.num_vertices()));
+  for (size_t v = 0; v < rows.size(); ++v) rows[v] = int(v);
+  return Eigen::MatrixXd(hessian.matrix(rows));
 }
 
 // Central differences of an energy's autograd gradient: column j = d grad / d x_j (3 n x 3 n).
@@ -82,9 +83,9 @@ TEST(ElasticHessian, StretchIsStVKsExactHessianWhereNoFaceIsCompressed) {
   x.col(0) *= 1.15;  // stretched 15% in the plane (x, z), then shaken a little out of it
   x.col(2) *= 1.1;
   for (Eigen::Index i = 0; i < x.size(); ++i) x.data()[i] += noise(rng);
-  CoordinateHessian entries;
+  CoordinateHessian entries(int(x.rows()));
   add_stretch_hessian(x, cloth, material, &entries);
-  const Eigen::MatrixXd H = dense(entries, x.size());
+  const Eigen::MatrixXd H = dense(entries);
   const Eigen::MatrixXd J =
       gradient_jacobian(x, [&](const torch::Tensor& t) { return stretch_energy(t, cloth, material); }, 1e-6);
   EXPECT_LT((H - J).cwiseAbs().maxCoeff(), 1e-5 * J.cwiseAbs().maxCoeff());
@@ -92,9 +93,9 @@ TEST(ElasticHessian, StretchIsStVKsExactHessianWhereNoFaceIsCompressed) {
   Eigen::MatrixXd squeezed = g.V;
   squeezed.col(0) *= 0.5;
   squeezed.col(2) *= 0.5;
-  CoordinateHessian compressed;
+  CoordinateHessian compressed(int(squeezed.rows()));
   add_stretch_hessian(squeezed, cloth, material, &compressed);
-  const Eigen::MatrixXd Hc = dense(compressed, x.size());
+  const Eigen::MatrixXd Hc = dense(compressed);
   EXPECT_GE(Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(Hc).eigenvalues().minCoeff(), -1e-9 * Hc.norm());
   const Eigen::MatrixXd Jc =
       gradient_jacobian(squeezed, [&](const torch::Tensor& t) { return stretch_energy(t, cloth, material); }, 1e-6);
@@ -109,9 +110,9 @@ TEST(ElasticHessian, BendingGaussNewtonIsExactAtTheRestAngle) {
   TriMesh folded = g;
   for (Eigen::Index i = 0; i < folded.V.rows(); ++i) folded.V(i, 1) = 3 * folded.V(i, 0) * folded.V(i, 0);
   const ClothGeometry cloth = make_cloth_geometry(folded, torch::kFloat64, torch::kCPU, /*with_rest_angles=*/true);
-  CoordinateHessian entries;
+  CoordinateHessian entries(int(folded.V.rows()));
   add_bending_hessian(folded.V, cloth, material, 1e-12, &entries);
-  const Eigen::MatrixXd H = dense(entries, folded.V.size());
+  const Eigen::MatrixXd H = dense(entries);
   const Eigen::MatrixXd J = gradient_jacobian(
       folded.V, [&](const torch::Tensor& t) { return bending_energy(t, cloth, material, 1e-12); }, 1e-6);
   ASSERT_GT(J.cwiseAbs().maxCoeff(), 0.0);
@@ -127,9 +128,9 @@ TEST(ElasticHessian, StrainBarrierBlocksAreItsExactHessian) {
   x.col(0) *= 1.095;  // the x edges in the band (9%-10%), a little out of plane
   x(4, 2) += 1e-3;
   const StrainBarrierSettings s{0.1, 0.01, 2.0};
-  CoordinateHessian entries;
+  CoordinateHessian entries(int(x.rows()));
   ASSERT_GT(strain_barrier(x, E, L, s, {}, nullptr, nullptr, &entries).active, 0);
-  const Eigen::MatrixXd H = dense(entries, x.size());
+  const Eigen::MatrixXd H = dense(entries);
   const double h = 1e-7;
   Eigen::MatrixXd J(x.size(), x.size());
   for (Eigen::Index v = 0; v < x.rows(); ++v)
@@ -154,11 +155,12 @@ TEST(ElasticHessian, CoordinateAssemblyLeavesPinnedVerticesOut) {
   shared.insert(1, 0) = -1;
   shared.insert(1, 1) = 5;
   const Eigen::VectorXd diagonal = (Eigen::VectorXd(2) << 0.5, 0.25).finished();
-  CoordinateHessian blocks;
+  CoordinateHessian blocks(3);
   const int vertices[2] = {2, 1};
   const double u[6] = {1, 2, 3, 7, 7, 7};
   add_outer_product(vertices, 2, u, 2.0, &blocks);
-  const Eigen::MatrixXd H = Eigen::MatrixXd(coordinate_hessian(shared, diagonal, blocks, {0, -1, 1}));
+  add_shared(shared, diagonal, {0, -1, 1}, &blocks);
+  const Eigen::MatrixXd H = Eigen::MatrixXd(blocks.matrix({0, -1, 1}));
   Eigen::MatrixXd expected = Eigen::MatrixXd::Zero(6, 6);
   for (int c = 0; c < 3; ++c) {
     expected(c, c) = 4.5;
@@ -168,16 +170,22 @@ TEST(ElasticHessian, CoordinateAssemblyLeavesPinnedVerticesOut) {
   const Eigen::Vector3d w(1, 2, 3);  // vertex 2's part of u; vertex 1's is dropped
   expected.bottomRightCorner(3, 3) += 2.0 * w * w.transpose();
   EXPECT_LT((H - expected).cwiseAbs().maxCoeff(), 1e-12);
+  // Cleared, the pairs stay (zero blocks): the same pattern, so the ordering can be reused.
+  blocks.clear();
+  EXPECT_TRUE(blocks.empty());
+  const Eigen::SparseMatrix<double> zero = blocks.matrix({0, -1, 1});
+  EXPECT_EQ(zero.nonZeros(), 36);
+  EXPECT_EQ(Eigen::MatrixXd(zero).norm(), 0.0);
 }
 
 TEST(ElasticHessian, DirectionalContactStiffnessSplitsAlongAndAcrossTheNormal) {
   const Eigen::VectorXd k = (Eigen::VectorXd(2) << 3.0, 0.0).finished();
   Eigen::MatrixXd normals(2, 3);
   normals << 0, 0.6, 0.8, 1, 0, 0;
-  CoordinateHessian along, across;
+  CoordinateHessian along(2), across(2);
   add_directional_stiffness(k, normals, false, &along);
   add_directional_stiffness(k, normals, true, &across);
-  const Eigen::MatrixXd A = dense(along, 6), C = dense(across, 6);
+  const Eigen::MatrixXd A = dense(along), C = dense(across);
   const Eigen::Vector3d n(0, 0.6, 0.8), t(1, 0, 0);
   EXPECT_NEAR(n.dot(A.topLeftCorner(3, 3) * n), 3.0, 1e-12);  // stiff along the normal
   EXPECT_NEAR((A.topLeftCorner(3, 3) * t).norm(), 0.0, 1e-12);
