@@ -8,10 +8,20 @@
 #                                                     reference solver or the refined network;
 #                                                     tests/hard/known_gaps.txt; ctest leaves them
 #                                                     out): their figures and gtest's verdict
+#   scripts/hard_cases.sh --step newton ...           either of the above with the reference
+#                                                     solver's Newton step (physics.solver.step; the
+#                                                     refinement takes Newton steps by default)
 # Prints one "[hard] ..." line per figure and gtest's verdict; exits non-zero when a case fails.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 BUILD=${PB4U_BUILD_DIR:-build}
+if [ "${1:-}" = "--step" ]; then
+  case "${2:-}" in
+    quasi_newton|newton) export PB4U_HARD_SOLVER_STEP=$2 ;;
+    *) echo "hard_cases.sh: --step: '${2:-}' is not quasi_newton or newton" >&2; exit 2 ;;
+  esac
+  shift 2
+fi
 if [ "${1:-}" = "--known-gaps" ]; then
   SCALE=${2:-1}
   FILTER=$(grep -E '^[A-Za-z]' tests/hard/known_gaps.txt | paste -sd: -)

@@ -13,6 +13,12 @@
 namespace pb4u {
 namespace {
 
+// The Hessian's curvature is taken no closer than this fraction of d_hat: b'' grows as
+// (d_hat / d)^2, and pairs a few picometres apart (carried along with the body) made it 1e18
+// N/m beside 1 N/m of inertia, which the LDLT cannot factorise. It only shapes the step: the
+// line search and CCD still keep every pair apart.
+constexpr double kHessianDistance = 1e-3;
+
 // Whether segment (p, q) crosses triangle (a, b, c), endpoints on it included (Moller-Trumbore).
 bool segment_crosses_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& q, const Eigen::Vector3d& a,
                               const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
@@ -46,8 +52,11 @@ BarrierValue barrier_potential(const Eigen::MatrixXd& x, const Eigen::MatrixXi& 
     out.energy += s.stiffness * barrier(d.distance, s.d_hat);
     // Only the cloth's points move in the solve: the derivatives of the first one (vertex) or
     // two (edge) of the four points.
-    const double k = (curvature || hessian) ? s.stiffness * barrier_second_derivative(d.distance, s.d_hat) : 0;
-    if (hessian) add_outer_product(points.data(), cloth_points, d.gradient.data(), k, hessian);
+    const double k = curvature ? s.stiffness * barrier_second_derivative(d.distance, s.d_hat) : 0;
+    if (hessian)  // no closer than kHessianDistance x d_hat, so the matrix stays factorisable
+      add_outer_product(points.data(), cloth_points, d.gradient.data(),
+                        s.stiffness * barrier_second_derivative(std::max(d.distance, kHessianDistance * s.d_hat), s.d_hat),
+                        hessian);
     const double scale = s.stiffness * barrier_derivative(d.distance, s.d_hat);
     for (int i = 0; i < cloth_points; ++i) {
       if (curvature) (*curvature)(points[i]) += k * d.gradient.segment<3>(3 * i).squaredNorm();

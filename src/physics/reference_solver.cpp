@@ -351,7 +351,13 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
     }
     if (fallback.active()) {  // the penalty's curvature, at the vertices it holds
       const torch::Tensor c = fallback.stiffness(x, state, cloth, contact);
-      sum = sum.defined() ? sum + c : c;
+      const PhysicsTerm::ContactDirection direction =
+          blocks ? fallback.term->contact_direction(state, contact) : PhysicsTerm::ContactDirection{};
+      if (direction.normal.defined())  // along the contact normal only, as the penalty term's own
+        add_directional_stiffness(tensor_to_matrix(c.reshape({-1, 1})).col(0), tensor_to_matrix(direction.normal),
+                                  direction.across, blocks);
+      else
+        sum = sum.defined() ? sum + c : c;
     }
     if (newton) {  // the elastic terms' Hessian at the current state
       const Eigen::MatrixXd X = positions(q);

@@ -1,5 +1,6 @@
 #include "pb4u/physics/strain_barrier.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -50,9 +51,12 @@ StrainBarrierValue strain_barrier(const Eigen::MatrixXd& x, const Eigen::MatrixX
     if (hessian) {
       const Eigen::Vector3d u = d.transpose() / length;
       const Eigen::Matrix3d along = u * u.transpose();
+      // Its curvature taken no nearer the limit than a thousandth of the band, as the contact
+      // barrier's (barrier_potential.cpp): it only shapes the step, the step filter keeps the limit.
+      const double gh = std::max(g, 1e-3 * s.gap);
       const Eigen::Matrix3d A =
-          s.stiffness * (barrier_d2(g, s.gap) / (rest(e) * rest(e)) * along -
-                         barrier_d1(g, s.gap) / (rest(e) * length) * (Eigen::Matrix3d::Identity() - along));
+          s.stiffness * (barrier_d2(gh, s.gap) / (rest(e) * rest(e)) * along -
+                         barrier_d1(gh, s.gap) / (rest(e) * length) * (Eigen::Matrix3d::Identity() - along));
       hessian->add(i, i, A);
       hessian->add(j, j, A);
       hessian->add(i, j, -A);

@@ -10,6 +10,7 @@ ReferenceSolverConfig refining_solver(const ReferenceSolverConfig& solver, const
   ReferenceSolverConfig config = solver;
   // A fixed kappa: the potential the output is no higher than is the start's, at one stiffness.
   config.barrier_stiffness_max = 0;
+  config.step = refine.step;
   if (refine.tolerance_mm > 0) {
     config.step_tolerance = 1e-3 * refine.tolerance_mm;
   } else {

@@ -243,6 +243,8 @@ bool check_relative(const std::string& label, const RolloutFigures& network, con
 PhysicsConfig reference_physics(const PhysicsConfig& physics, const RolloutInput& in) {
   PhysicsConfig p = physics;
   if (!in.body.empty() && in.effects.collision) p.solver.contact = "barrier";
+  // scripts/hard_cases.sh --step newton: the reference solver with Newton steps.
+  if (const char* step = std::getenv("PB4U_HARD_SOLVER_STEP")) p.solver.step = step;
   return p;
 }
 

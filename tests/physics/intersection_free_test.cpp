@@ -395,14 +395,13 @@ TEST(RefinedStep, AnyIterationCountEndsFreeOfTheBodyAndMoreIterationsNeverRaiseT
   };
   for (const std::string step : {"quasi_newton", "newton"}) {
     SCOPED_TRACE(step);
-    PhysicsConfig stepping = config;
-    stepping.solver.step = step;
     double last = std::numeric_limits<double>::infinity();
     for (const int n : {0, 1, 2, 5, 20}) {
       RefineConfig refine;
       refine.iterations = n;
+      refine.step = step;
       auto log = std::make_shared<ContactStepLog>();
-      const torch::Tensor x = refined_stepper(into_the_body, stepping.solver, refine, log)(state, cloth, terms, &*contact);
+      const torch::Tensor x = refined_stepper(into_the_body, config.solver, refine, log)(state, cloth, terms, &*contact);
       const Freedom f = freedom(tensor_to_matrix(x), edges, sphere.V, sphere.F);
       EXPECT_GT(f.min_distance, 0) << n << " iterations";
       EXPECT_EQ(f.edges_through, 0) << n << " iterations";
