@@ -261,7 +261,9 @@ TEST(IntersectionFreeSolver, NewtonReachesTheQuasiNewtonMinimumInFewerIterations
   std::printf("quasi-Newton %d iterations, Newton %d, energy gap %.3g J\n", quasi.iterations, newton.iterations,
               newton.energy - quasi.energy);
   EXPECT_LT(newton.iterations, quasi.iterations);
-  EXPECT_LT((newton.x_next - quasi.x_next).abs().max().item<double>(), 1e-5);  // m
+  // The same place to a tenth of d_hat: the minimum is flat along some directions (buckling), so
+  // two converged steps can stand tens of micrometres apart at equal energy.
+  EXPECT_LT((newton.x_next - quasi.x_next).abs().max().item<double>(), 1e-4);  // m
 }
 
 TEST(StepResidual, BarrierContactIsMeasuredAgainstTheIntersectionFreeSolversOwnMinimum) {

@@ -104,10 +104,12 @@ struct ReferenceSolverConfig {
   double strain_limit = 0;
   double strain_barrier_gap = 0.01;
   double strain_barrier_stiffness = 1.0;  // J
-  // How the barriers' curvature (contact, strain) enters the elastic initial Hessian: "blocks"
-  // = their Hessians on the coordinates (coordinate_hessian.h; stiff along a contact's normal
-  // and an edge's direction, free across), "diagonal" = one isotropic value per vertex.
-  std::string barrier_hessian = "blocks";
+  // How the barriers' curvature (contact, strain) enters L-BFGS's elastic initial Hessian:
+  // "diagonal" = one isotropic value per vertex; "blocks" = their Hessians on the coordinates
+  // (coordinate_hessian.h; stiff along a contact's normal and an edge's direction, free across;
+  // what the Newton step always uses). Blocks were no better on the garment scenes and worse on
+  // the hard cases' spin and jump (docs/physics.md, "The Newton step").
+  std::string barrier_hessian = "diagonal";
   // The step: "quasi_newton" = L-BFGS from the initial Hessian above; "newton" = projected
   // Newton: each iteration solves with the Hessian at the current state (elastic_hessian.h:
   // inertia, StVK projected per face, bending Gauss-Newton; the contacts' curvature and the
