@@ -54,6 +54,7 @@ BenchRow run_one(const Run& run, const RolloutInput& body_input, const RolloutIn
     if (run.family == "refined") {
       RefineConfig refine;
       refine.iterations = run.iterations;
+      refine.step = config.refine_step;
       step = refined_stepper(step, physics.solver, refine);
     }
     row.K = run.k_override >= 0 ? run.k_override : run.model->model->propagation_steps_for(topology.mean_edge_length);

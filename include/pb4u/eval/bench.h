@@ -46,6 +46,7 @@ struct BenchConfig {
   std::vector<int> refine_iterations;  // every checkpoint's steps refined by that many solver
                                        // iterations (rollout/refined_step.h, physics.solver's
                                        // contact), one row each: "<name> + N it"
+  std::string refine_step = "newton";  // the refinement's solver step: newton | quasi_newton
   bool no_body_variant = true;  // also run the first checkpoint with gravity only (no body)
   int stage_repeats = 7;        // frames timed for the per-stage breakdown (median)
   std::vector<int> matmul_size{36000, 384, 128};  // dense matmul the FLOP rate is compared to
@@ -75,6 +76,7 @@ struct BenchConfig {
     v("reference_iterations", reference_iterations);
     v("reference_contacts", reference_contacts);
     v("refine_iterations", refine_iterations);
+    v("refine_step", refine_step, one_of({"quasi_newton", "newton"}));
     v("no_body_variant", no_body_variant);
     v("stage_repeats", stage_repeats, int_at_least(1));
     v("matmul_size", matmul_size);
