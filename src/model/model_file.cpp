@@ -158,7 +158,7 @@ std::string network_name(const ModelConfig& config) {
   // The paper's MGN, HOOD and CCRAFT are fixed-depth and unscaled; with update scaling on each is
   // another model.
   if (config.is_hood()) return config.update_scaling_on() ? "HOOD w/ US" : "HOOD";
-  if (config.is_ccraft()) return config.update_scaling_on() ? "CCRAFT w/ US" : "CCRAFT";
+  if (config.is_ccraft()) return config.update_scaling_on() ? "CCRAFT (stage 1) w/ US" : "CCRAFT (stage 1)";
   // Rebuilt from the ESLR paper (its code is not public): the name says so wherever it appears.
   if (config.is_eslr()) return config.update_scaling_on() ? "ESLR (rec.) w/ US" : "ESLR (rec.)";
   if (!config.is_pb4u()) return config.update_scaling_on() ? "MGN w/ US" : "MGN";
