@@ -5,6 +5,8 @@
 
 #include <array>
 
+#include "pb4u/physics/quasi_newton_hessian.h"
+
 namespace pb4u {
 
 Eigen::Matrix<double, 12, 1> dihedral_angle_gradient(const Eigen::Vector3d& xi, const Eigen::Vector3d& xj,
@@ -42,14 +44,11 @@ void add_stretch_hessian(const Eigen::MatrixXd& x, const ClothGeometry& cloth, c
   for (int64_t f = 0; f < faces.size(0); ++f) {
     const double scale = A[f] * material.thickness;
     if (!(scale > 0)) continue;
-    // F = sum_a x_a g_a^T (quasi_newton_hessian.h): vertex 1 <-> row 0 of Dm^-1, vertex 2 <->
-    // row 1, vertex 0 <-> minus their sum.
-    const double g[3][2] = {{-D[f][0][0] - D[f][1][0], -D[f][0][1] - D[f][1][1]},
-                            {D[f][0][0], D[f][0][1]},
-                            {D[f][1][0], D[f][1][1]}};
+    const Eigen::Matrix<double, 3, 2> g =  // F = sum_a x_a g_a^T
+        shape_function_gradients((Eigen::Matrix2d() << D[f][0][0], D[f][0][1], D[f][1][0], D[f][1][1]).finished());
     const std::array<int, 3> v{int(F[f][0]), int(F[f][1]), int(F[f][2])};
     Eigen::Matrix<double, 3, 2> Fd = Eigen::Matrix<double, 3, 2>::Zero();
-    for (int a = 0; a < 3; ++a) Fd += x.row(v[a]).transpose() * Eigen::RowVector2d(g[a][0], g[a][1]);
+    for (int a = 0; a < 3; ++a) Fd += x.row(v[a]).transpose() * g.row(a);
     const Eigen::Matrix2d G = 0.5 * (Fd.transpose() * Fd - Eigen::Matrix2d::Identity());
     const Eigen::Matrix2d S = 2 * mu * G + lambda * G.trace() * Eigen::Matrix2d::Identity();
     // P = scale F S; dP = scale (dF S + F (2 mu dG + lambda tr(dG) I)), dG = sym(F^T dF).
@@ -71,7 +70,7 @@ void add_stretch_hessian(const Eigen::MatrixXd& x, const ClothGeometry& cloth, c
     Eigen::Matrix<double, 6, 9> B = Eigen::Matrix<double, 6, 9>::Zero();
     for (int a = 0; a < 3; ++a)
       for (int c = 0; c < 2; ++c)
-        for (int r = 0; r < 3; ++r) B(3 * c + r, 3 * a + r) = g[a][c];
+        for (int r = 0; r < 3; ++r) B(3 * c + r, 3 * a + r) = g(a, c);
     const Eigen::Matrix<double, 9, 9> Hx = B.transpose() * projected * B;
     for (int a = 0; a < 3; ++a)
       for (int b = 0; b < 3; ++b) hessian->add(v[a], v[b], Hx.block<3, 3>(3 * a, 3 * b));

@@ -25,18 +25,15 @@ Eigen::SparseMatrix<double> quasi_newton_hessian(const ClothGeometry& cloth,
       entries.emplace_back(row_of_vertex[v], row_of_vertex[v], m[v] > 0 ? m[v] / (dt * dt) : 1.0);
   const double modulus = material.thickness * (2 * material.mu + material.lambda);
   for (int64_t f = 0; f < faces.size(0); ++f) {
-    // F = Ds Dm^-1 = sum_i x_i grad_i^T: vertex 1 <-> row 0 of Dm^-1, vertex 2 <-> row 1,
-    // vertex 0 <-> minus their sum.
-    double g[3][2] = {{-D[f][0][0] - D[f][1][0], -D[f][0][1] - D[f][1][1]},
-                      {D[f][0][0], D[f][0][1]},
-                      {D[f][1][0], D[f][1][1]}};
+    const Eigen::Matrix<double, 3, 2> g =
+        shape_function_gradients((Eigen::Matrix2d() << D[f][0][0], D[f][0][1], D[f][1][0], D[f][1][1]).finished());
     for (int a = 0; a < 3; ++a) {
       int ra = row_of_vertex[F[f][a]];
       if (ra < 0) continue;
       for (int b = 0; b < 3; ++b) {
         int rb = row_of_vertex[F[f][b]];
         if (rb < 0) continue;
-        entries.emplace_back(ra, rb, A[f] * modulus * (g[a][0] * g[b][0] + g[a][1] * g[b][1]));
+        entries.emplace_back(ra, rb, A[f] * modulus * g.row(a).dot(g.row(b)));
       }
     }
   }

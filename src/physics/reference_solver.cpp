@@ -11,6 +11,7 @@
 
 #include "pb4u/mesh/edges.h"
 #include "pb4u/physics/barrier_objective.h"
+#include "pb4u/physics/bending_energy.h"
 #include "pb4u/physics/carried_by_body.h"
 #include "pb4u/physics/collision_energy.h"
 #include "pb4u/physics/coordinate_hessian.h"
@@ -33,9 +34,6 @@ constexpr int kMaxBodyMoves = 24;
 // Rounds of Provot's pass and the push out of the body that make a start both intersection-free
 // and within the strain limit (solver.strain_limit).
 constexpr int kStartRounds = 10;
-// m^2: below this a hinge counts as collapsed in the Newton step's bending Hessian (the default
-// physics.degenerate_area; the Hessian only shapes the step, the energy keeps the scene's).
-constexpr double kBendingDegenerateArea = 1e-14;
 
 // The rows `free` of an n x 3 matrix, flat (3 x free rows): the solver's coordinates.
 torch::Tensor free_coordinates(const Eigen::MatrixXd& rows, const torch::Tensor& free, const torch::TensorOptions& opts) {
@@ -337,37 +335,34 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
   auto contact_diagonal = [&](const torch::Tensor& q, CoordinateHessian* blocks) {
     torch::Tensor x = x_base.index_copy(0, free, q.detach().reshape({nf, 3}));
     torch::Tensor sum;
-    for (const auto& term : terms) {
-      if (barrier && term->name() == "collision") continue;
-      torch::Tensor c = term->contact_stiffness(x, state, cloth, contact);
-      if (!c.defined()) continue;
-      const PhysicsTerm::ContactDirection direction = blocks ? term->contact_direction(state, contact) : PhysicsTerm::ContactDirection{};
-      if (direction.normal.defined()) {  // stiff along the normal only, or across it only
-        add_directional_stiffness(tensor_to_matrix(c.reshape({-1, 1})).col(0), tensor_to_matrix(direction.normal),
-                                  direction.across, blocks);
-        continue;
-      }
-      sum = sum.defined() ? sum + c : c;
-    }
-    if (fallback.active()) {  // the penalty's curvature, at the vertices it holds
-      const torch::Tensor c = fallback.stiffness(x, state, cloth, contact);
+    // A term's curvature c: along or across its contact normal into *blocks where it has one and
+    // blocks are kept, else isotropic into sum.
+    auto add_curvature = [&](const PhysicsTerm& term, const torch::Tensor& c) {
       const PhysicsTerm::ContactDirection direction =
-          blocks ? fallback.term->contact_direction(state, contact) : PhysicsTerm::ContactDirection{};
-      if (direction.normal.defined())  // along the contact normal only, as the penalty term's own
+          blocks ? term.contact_direction(state, contact) : PhysicsTerm::ContactDirection{};
+      if (direction.normal.defined())
         add_directional_stiffness(tensor_to_matrix(c.reshape({-1, 1})).col(0), tensor_to_matrix(direction.normal),
                                   direction.across, blocks);
       else
         sum = sum.defined() ? sum + c : c;
+    };
+    for (const auto& term : terms) {
+      if (barrier && term->name() == "collision") continue;
+      const torch::Tensor c = term->contact_stiffness(x, state, cloth, contact);
+      if (c.defined()) add_curvature(*term, c);
     }
+    // The penalty's curvature at the vertices it holds, in the penalty term's direction.
+    if (fallback.active()) add_curvature(*fallback.term, fallback.stiffness(x, state, cloth, contact));
+    Eigen::MatrixXd X;  // the cloth where the Hessians below are taken
+    if (newton || barrier || strain) X = positions(q);
     if (newton) {  // the elastic terms' Hessian at the current state
-      const Eigen::MatrixXd X = positions(q);
       for (const auto& term : terms) {
         if (term->name() == "stretch") add_stretch_hessian(X, cloth, state.material, blocks);
-        if (term->name() == "bending") add_bending_hessian(X, cloth, state.material, kBendingDegenerateArea, blocks);
+        if (const auto* bending = dynamic_cast<const BendingTerm*>(term.get()))
+          add_bending_hessian(X, cloth, state.material, bending->degenerate_area(), blocks);
       }
     }
     if (barrier || strain) {
-      const Eigen::MatrixXd X = positions(q);
       Eigen::VectorXd curvature = Eigen::VectorXd::Zero(n);
       Eigen::VectorXd* diagonal = blocks ? nullptr : &curvature;
       if (barrier) barrier_potential(X, barrier->cloth_edges, body, candidates, settings, nullptr, diagonal, blocks);

@@ -22,6 +22,7 @@ class BendingTerm : public PhysicsTerm {
   std::string name() const override { return "bending"; }
   torch::Tensor energy(const torch::Tensor& x_next, const FrameState& state,
                        const ClothGeometry& cloth, const BodyContact*) const override;
+  double degenerate_area() const { return degenerate_area_; }  // m^2
 
  private:
   double degenerate_area_;
