@@ -189,11 +189,24 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
   double closest = std::numeric_limits<double>::infinity();  // m: nearest pair at the last evaluation
   std::vector<char> excluded;
   const auto start_time = std::chrono::steady_clock::now();
+  // Pins are kinematic under barrier contact, as the body is: they start where they were at t
+  // (where the body at t left them room) and reach their targets with the body's motion.
+  std::vector<int64_t> pin_rows;
+  Eigen::MatrixXd pin_target;
   if (barrier) {
+    Eigen::MatrixXd from = tensor_to_matrix(x_start ? x_base : state.x), to = tensor_to_matrix(x_base);
+    const torch::Tensor pinned_cpu = pinned.to(torch::kCPU).contiguous();
+    for (int64_t i = 0; i < n; ++i)
+      if (pinned_cpu.data_ptr<bool>()[i]) pin_rows.push_back(i);
+    if (!pin_rows.empty()) {
+      pin_target = to;
+      const Eigen::MatrixXd x_t = tensor_to_matrix(state.x);
+      for (int64_t i : pin_rows) from.row(i) = to.row(i) = x_t.row(i);
+    }
     // From the cloth at t towards the ballistic prediction, or from the given step itself.
-    FeasibleStart start = intersection_free_start(tensor_to_matrix(x_start ? x_base : state.x), tensor_to_matrix(x_base),
-                                                  barrier->cloth_edges, barrier->body_t, barrier->body_faces,
+    FeasibleStart start = intersection_free_start(from, to, barrier->cloth_edges, barrier->body_t, barrier->body_faces,
                                                   barrier->settings.d_hat);
+    for (int64_t i : pin_rows) start.x.row(i) = from.row(i);  // the start moves no pin
     spdlog::debug("barrier start: {} pushed out, {} excluded, target reached {:.3f}, {:.0f} ms", start.pushed_out,
                   start.excluded_count, start.target_progress, ms_since(start_time));
     result.pushed_out = start.pushed_out;
@@ -386,8 +399,21 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
   // Where the cloth leaves the body no room (pinched between two body parts, or a body that
   // intersects itself) the body is placed at its pose after kMaxBodyMoves tries, and the cloth
   // it now cuts or holds leaves barrier contact for the penalty term (SolverResult::excluded).
+  // What is left of the pins' motion, as rows of the cloth (zero off the pins).
+  auto pins_left = [&](const Eigen::MatrixXd& X) {
+    Eigen::MatrixXd DP = Eigen::MatrixXd::Zero(n, 3);
+    for (int64_t i : pin_rows) DP.row(i) = pin_target.row(i) - X.row(i);
+    return DP;
+  };
+  auto move_pins = [&](const Eigen::MatrixXd& to) {  // pinned rows of x_base set from `to`
+    if (pin_rows.empty()) return;
+    Eigen::MatrixXd X = tensor_to_matrix(x_base);
+    for (int64_t i : pin_rows) X.row(i) = to.row(i);
+    x_base = matrix_to_tensor(X, opts.dtype().toScalarType(), state.x.device());
+  };
   auto place_body = [&](double left) {
     body.V = barrier->body_next;
+    move_pins(pin_target);
     const std::vector<char> caught =
         vertices_not_free_of(positions(q), barrier->cloth_edges, body.V, body.F, barrier->settings.d_hat);
     for (size_t i = 0; i < caught.size(); ++i)
@@ -401,29 +427,36 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
     drop_pairs_of(excluded, barrier->cloth_edges, &candidates);
     result.body_lag = left;
   };
-  auto body_left = [&]() { return (barrier->body_next - body.V).rowwise().norm().maxCoeff(); };
+  auto body_left = [&]() {
+    const double pins = pin_rows.empty() ? 0.0 : pins_left(positions(q)).rowwise().norm().maxCoeff();
+    return std::max((barrier->body_next - body.V).rowwise().norm().maxCoeff(), pins);
+  };
   // The body's move of this iteration: what is left of its motion (capped), the cloth it
-  // touches carried along, both cut to what CCD certifies. False when nothing moved.
+  // touches carried along and the pins by the same share of what is left of theirs, all cut to
+  // what CCD certifies. False when nothing moved.
   int body_moves = 0;
   auto move_body = [&]() {
-    Eigen::MatrixXd DB = barrier->body_next - body.V;
-    const double left = DB.rowwise().norm().maxCoeff();
+    const double left = body_left();
     if (left <= 0) return false;
     if (++body_moves > kMaxBodyMoves) {
       place_body(left);
       return true;
     }
-    if (left > kMaxContactStep) DB *= kMaxContactStep / left;
+    const double share = left > kMaxContactStep ? kMaxContactStep / left : 1.0;
+    const Eigen::MatrixXd DB = share * (barrier->body_next - body.V);
     const Eigen::MatrixXd X = positions(q);
     Eigen::MatrixXd D = carried_by_body(X, barrier->cloth_edges, body, DB, excluded, barrier->settings.d_hat / 2);
+    const Eigen::MatrixXd DP = share * pins_left(X);
     for (Eigen::Index i = 0; i < n; ++i)
-      if (!free_flags[size_t(i)]) D.row(i).setZero();
+      if (!free_flags[size_t(i)]) D.row(i) = DP.row(i);
     candidates = contact_candidates(X, D, barrier->cloth_edges, body, DB, barrier->settings.d_hat);
     drop_pairs_of(excluded, barrier->cloth_edges, &candidates);
     const double t = max_safe_step(X, D, barrier->cloth_edges, body, DB, candidates);
     if (!(t > 0)) return false;
-    // A full step lands exactly on the pose (no rounding left over).
-    body.V = (t >= 1 && left <= kMaxContactStep) ? barrier->body_next : Eigen::MatrixXd(body.V + t * DB);
+    // A full step lands exactly on the pose and the pins' targets (no rounding left over).
+    const bool home = t >= 1 && share >= 1;
+    body.V = home ? barrier->body_next : Eigen::MatrixXd(body.V + t * DB);
+    move_pins(home ? pin_target : Eigen::MatrixXd(X + t * D));
     q = q + t * free_coordinates(D, free, opts);
     return true;
   };
