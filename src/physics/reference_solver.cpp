@@ -395,6 +395,11 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
   double E = evaluate(q, &g);
   std::deque<Pair> history;
   double step_norm = 0;
+  double last_slope = 0;  // g.d of the last direction
+  // The step's predicted decrease below decrease_tolerance (when that is on).
+  auto small_decrease = [&](double slope) {
+    return config.decrease_tolerance > 0 && -0.5 * slope < config.decrease_tolerance;
+  };
   double accepted_closest = std::numeric_limits<double>::infinity();
   // Where the cloth leaves the body no room (pinched between two body parts, or a body that
   // intersects itself) the body is placed at its pose after kMaxBodyMoves tries, and the cloth
@@ -491,9 +496,11 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
     if (result.iterations >= config.max_iterations) break;
     // Done when the cloth is at rest and the body at its pose (a body held up tries again).
     const bool body_home = !barrier || body_left() <= 0;
-    if ((step_norm <= config.step_tolerance || !(slope < 0)) && !body_moved && body_home) break;
+    last_slope = slope;
+    const bool at_rest = step_norm <= config.step_tolerance || !(slope < 0) || small_decrease(slope);
+    if (at_rest && !body_moved && body_home) break;
     if (!body_home) body_moved = true;  // keep going: the next iteration moves or places the body
-    if (step_norm <= config.step_tolerance || !(slope < 0)) {
+    if (at_rest) {
       ++result.iterations;
       continue;  // the cloth is at rest against the body where it stands: move the body on
     }
@@ -597,7 +604,7 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
   result.energy = E;
   result.gradient_norm = nf ? g.abs().max().item<double>() : 0.0;
   result.step_norm = step_norm;
-  result.converged = step_norm <= config.step_tolerance;
+  result.converged = step_norm <= config.step_tolerance || small_decrease(last_slope);
   return result;
 }
 

@@ -266,6 +266,30 @@ TEST(IntersectionFreeSolver, NewtonReachesTheQuasiNewtonMinimumInFewerIterations
   EXPECT_LT((newton.x_next - quasi.x_next).abs().max().item<double>(), 1e-4);  // m
 }
 
+TEST(IntersectionFreeSolver, DecreaseToleranceStopsEarlierWithinItsEnergy) {
+  // The same settled step as above, Newton to the step tolerance and then with the decrease rule:
+  // fewer iterations, an energy within a few times the tolerance of the tight solve's (half the
+  // Newton decrement squared is the quadratic model's gap to its minimum), still free of the body.
+  ClothOverSphere scene(0.005);
+  PhysicsConfig config = barrier_config();
+  config.solver.barrier_stiffness_max = 0;
+  config.solver.max_iterations = 1000;
+  config.solver.step = "newton";
+  for (int frame = 0; frame < 10; ++frame) barrier_step(scene.state, scene.cloth, config);
+  const TermList terms = build_terms(scene.state.effects, config);
+  const SolverResult tight = solve_reference_frame(scene.state, scene.cloth, terms, config);
+  const double tolerance = 1e-7;  // J
+  config.solver.decrease_tolerance = tolerance;
+  const SolverResult loose = solve_reference_frame(scene.state, scene.cloth, terms, config);
+  ASSERT_TRUE(tight.converged);
+  ASSERT_TRUE(loose.converged);
+  std::printf("Newton: %d iterations to the step tolerance, %d to a %.0e J decrease, energy gap %.3g J\n",
+              tight.iterations, loose.iterations, tolerance, loose.energy - tight.energy);
+  EXPECT_LT(loose.iterations, tight.iterations);
+  EXPECT_LT(loose.energy - tight.energy, 4 * tolerance);
+  EXPECT_GT(loose.min_distance, 0);
+}
+
 TEST(StepResidual, BarrierContactIsMeasuredAgainstTheIntersectionFreeSolversOwnMinimum) {
   // A cloth resting on a sphere after the intersection-free solver's steps: its contacts sit
   // within d_hat (1 mm), where the penalty term (eps 4 mm) still pushes. Measured with the

@@ -80,6 +80,10 @@ struct ReferenceSolverConfig {
   // solver's Hessian metric: the correction still to make) is below this. Unlike a force in N
   // it does not shrink with the vertex masses as the mesh is refined.
   double step_tolerance = 1e-6;
+  // J: also converged when the step's predicted decrease of the energy, -g.d / 2 (half the
+  // Newton decrement squared for the Newton step), is below this; 0: off. The last iterations
+  // of a step otherwise go to sub-micro-joule buckling modes that move no vertex by much.
+  double decrease_tolerance = 0;
   int history = 10;                 // L-BFGS memory (pairs)
   int max_line_search_steps = 30;   // halvings before a step is given up
   double armijo = 1e-4;             // sufficient-decrease constant c1
@@ -120,6 +124,7 @@ struct ReferenceSolverConfig {
   void visit(V& v) {
     v("max_iterations", max_iterations, int_at_least(0));
     v("step_tolerance", step_tolerance, positive());
+    v("decrease_tolerance", decrease_tolerance, non_negative());
     v("history", history, int_at_least(1));
     v("max_line_search_steps", max_line_search_steps, int_at_least(1));
     v("armijo", armijo, in_range(1e-8, 0.5));
