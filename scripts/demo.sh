@@ -14,7 +14,8 @@ echo "== pb4u inspect data/meshes/tshirt.obj (the shipped t-shirt)"
 "$PB4U" inspect data/meshes/tshirt.obj | tee "$OUT/tshirt_inspect.txt"
 
 DATA=data/generated/quick/quick.h5
-if [ ! -f "$DATA" ]; then
+# Generated again when its config changed since (a dataset of an older config would be reused).
+if [ ! -f "$DATA" ] || [ configs/data/quick.yaml -nt "$DATA" ]; then
   echo "== pb4u generate (quick CPU-scale dataset, about two minutes)"
   "$PB4U" generate --config configs/data/quick.yaml --out data/generated/quick
 fi
