@@ -241,6 +241,26 @@ TEST(IntersectionFreeSolver, ClothDroppedOnASphereComesToRestOutsideIt) {
   }
 }
 
+TEST(IntersectionFreeSolver, ABarrierOffsetHoldsTheClothThatFarOffTheBody) {
+  // The sphere drop with a 3 mm contact offset: every frame the cloth stays at least ~the offset
+  // off the real sphere (the offset body's faces are within a few tenths of a percent of it),
+  // and it comes to rest on the offset surface, not on the sphere.
+  ClothOverSphere scene(0.01);
+  PhysicsConfig config = barrier_config();
+  const double offset = 3e-3;
+  config.solver.barrier_offset = offset;
+  const Eigen::MatrixXd body_V = tensor_to_matrix(scene.state.body.vertices);
+  for (int frame = 0; frame < 30; ++frame) {
+    const SolverResult r = barrier_step(scene.state, scene.cloth, config);
+    const Freedom f = freedom(tensor_to_matrix(scene.state.x), scene.edges, body_V, scene.sphere.F);
+    ASSERT_GT(f.min_distance, 0.95 * offset) << "frame " << frame;
+    EXPECT_EQ(r.excluded, 0) << "frame " << frame;
+  }
+  const double centre_y = scene.state.x[24][1].item<double>();
+  EXPECT_GT(centre_y, scene.radius + 0.95 * offset);
+  EXPECT_LT(centre_y, scene.radius + offset + 0.005);  // the bound of the drop without offset, moved out
+}
+
 TEST(IntersectionFreeSolver, NewtonReachesTheQuasiNewtonMinimumInFewerIterations) {
   // The cloth settled on the sphere for 10 frames, then one step both ways at a fixed kappa
   // (the same objective), each allowed 1000 iterations.
