@@ -10,9 +10,9 @@
 #include <functional>
 
 #include "pb4u/mesh/edges.h"
-#include "pb4u/mesh/geometry.h"
 #include "pb4u/physics/barrier_objective.h"
 #include "pb4u/physics/bending_energy.h"
+#include "pb4u/physics/body_offset.h"
 #include "pb4u/physics/carried_by_body.h"
 #include "pb4u/physics/collision_energy.h"
 #include "pb4u/physics/coordinate_hessian.h"
@@ -616,9 +616,9 @@ std::optional<BarrierStepInput> barrier_step_input(const FrameState& state, cons
   input.body_t = tensor_to_matrix(state.body.vertices);
   input.body_next = tensor_to_matrix(state.body.next_vertices);
   input.body_faces = index_tensor_to_matrix(state.body.faces);
-  if (config.barrier_offset > 0) {  // the body moved out along its normals at each pose
-    input.body_t += config.barrier_offset * vertex_normals(input.body_t, input.body_faces);
-    input.body_next += config.barrier_offset * vertex_normals(input.body_next, input.body_faces);
+  if (config.barrier_offset > 0) {  // the body moved out along its normals where it has room
+    input.body_t = offset_where_room(input.body_t, input.body_faces, config.barrier_offset);
+    input.body_next = offset_where_room(input.body_next, input.body_faces, config.barrier_offset);
   }
   input.cloth_edges = unique_edges(index_tensor_to_matrix(cloth.faces));
   input.settings.d_hat = config.barrier_distance;

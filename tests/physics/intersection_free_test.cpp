@@ -13,6 +13,7 @@
 
 #include "pb4u/mesh/edges.h"
 #include "pb4u/physics/barrier_potential.h"
+#include "pb4u/physics/body_offset.h"
 #include "pb4u/physics/carried_by_body.h"
 #include "pb4u/physics/energy_report.h"
 #include "pb4u/physics/intersection_free_start.h"
@@ -239,6 +240,30 @@ TEST(IntersectionFreeSolver, ClothDroppedOnASphereComesToRestOutsideIt) {
     EXPECT_LT(centre_y, radius + 0.005);
     EXPECT_LT(kinetic, 1e-4);
   }
+}
+
+TEST(BodyOffset, MovesOutWhereThereIsRoomAndClosesNoGapBetweenParts) {
+  // Two spheres of one body, 4 mm apart, offset by 3 mm: moved out by the full offset away
+  // from each other, not at all where they face (a uniform offset would make them cross by 2 mm).
+  const double radius = 0.1, gap = 0.004, offset = 0.003;
+  const TriMesh body = test::joined(test::icosphere(radius, 3, Eigen::RowVector3d::Zero()),
+                                    test::icosphere(radius, 3, Eigen::RowVector3d(2 * radius + gap, 0, 0)));
+  const Eigen::MatrixXd moved = offset_where_room(body.V, body.F, offset);
+  const Eigen::Index half = body.V.rows() / 2;
+  double least_far = 1, most = 0;
+  for (Eigen::Index i = 0; i < body.V.rows(); ++i) {
+    const double by = (moved.row(i) - body.V.row(i)).norm();
+    most = std::max(most, by);
+    const double outward_x = i < half ? body.V(i, 0) : 2 * radius + gap - body.V(i, 0);
+    if (outward_x < -0.5 * radius) least_far = std::min(least_far, by);  // the far sides
+  }
+  // The moved surfaces stay apart: every moved vertex of the first sphere outside the second.
+  const Eigen::MatrixXd second_V = moved.bottomRows(body.V.rows() - half);
+  const Eigen::MatrixXi second_F = (body.F.bottomRows(body.F.rows() / 2).array() - int(half)).matrix();
+  const double facing_gap = signed_distance_to_surface(moved.topRows(half), second_V, second_F).minCoeff();
+  EXPECT_LE(most, offset + 1e-12);
+  EXPECT_GT(least_far, 0.99 * offset);
+  EXPECT_GT(facing_gap, 0.9 * gap) << "the offset closed the gap between the parts";
 }
 
 TEST(IntersectionFreeSolver, ABarrierOffsetHoldsTheClothThatFarOffTheBody) {

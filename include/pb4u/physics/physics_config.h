@@ -96,9 +96,10 @@ struct ReferenceSolverConfig {
   // start made intersection-free (intersection_free_start.h).
   std::string contact = "penalty";
   double barrier_distance = 1e-3;   // m: d_hat, where the barrier starts to act
-  // m: the body as the barrier sees it is moved out by this along its vertex normals (a contact
-  // offset, as C-IPC's thickness), so that the cloth rests this far off the body: with the
-  // collision term's eps (3 mm) the SPEC 3.3 term no longer charges the barrier's rest. 0: off.
+  // m: the body as the barrier sees it is moved out by this along its vertex normals where it
+  // has room in front (a contact offset, as C-IPC's thickness; body_offset.h), so that the cloth
+  // rests this far off the body: with the collision term's eps (3 mm) the SPEC 3.3 term no
+  // longer charges the barrier's rest. 0: off.
   double barrier_offset = 0;
   double barrier_stiffness = 1000;  // J/m^2: kappa at the start of each step
   // J/m^2: kappa may double up to this within a step (IPC's adaptive stiffness): whenever an
