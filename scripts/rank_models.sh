@@ -29,9 +29,10 @@
 #   --threads N  torch threads (default 1)
 #   --jobs N     model files probed at once (default 1; 2 on two idle cores halves the time)
 #   --reference  also the reference solver (penalty contact) on the one step, walk, hang and
-#                unseen level 1 (minutes; kept in DIR/reference and reused), and each probe's
-#                ratio to it
+#                unseen level 1 (minutes; kept in DIR/reference and reused while the dataset
+#                is the same file), and each probe's ratio to it
 #   --quick      a smoke test: 3 frames per rollout, levels 1 and 2 (seconds, not minutes)
+# A model's probes are kept in DIR too and reused while the dataset and its file are unchanged.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 out=runs/rank last=3 threads=1 jobs=1 reference=0 quick=0 runs=()
@@ -80,11 +81,17 @@ run_name() {  # NAME=... gives NAME; a bare path its base name
   if [[ "$spec" == *=* ]]; then echo "${spec%%=*}"; else basename "${spec%/}" | sed 's/\.[a-z0-9]*$//'; fi
 }
 
-# probe MODEL DIR: the probes of one model file (or "reference", the solver) into DIR; a probe
-# whose result DIR already holds is not run again.
+# probe MODEL DIR [SOURCE]: the probes of one model file (or "reference", the solver) into DIR;
+# a probe whose result DIR already holds is not run again while the dataset and SOURCE (the file
+# MODEL was exported from; default MODEL) are those it was run on (their size and time in
+# DIR/stamp: a regenerated dataset or a new file under the same name clears DIR).
 probe() {
-  local model=$1 dir=$2 method=() scene name file frames
+  local model=$1 dir=$2 source=${3:-$1} method=() scene name file frames
+  local stamp
+  stamp="$(stat -c '%s %Y' data/generated/quick/quick.h5 2>/dev/null) $( [ "$model" = reference ] || stat -c '%s %Y' "$source")"
+  if [ "$(cat "$dir/stamp" 2>/dev/null)" != "$stamp" ]; then rm -rf "$dir"; fi
   mkdir -p "$dir"
+  printf '%s' "$stamp" >"$dir/stamp"
   if [ "$model" = reference ]; then method=(--method reference); else method=(--checkpoint "$model"); fi
   local t="$pb4u --threads $threads -q"
   if [ ! -s "$dir/step.json" ]; then
@@ -148,7 +155,7 @@ for spec in "${runs[@]}"; do
       --set strain_limit=0.1 --set refine_iterations=0 --out "$member/passes.h5"
     for variant in alone passes; do
       echo "rank_models.sh: $name #$i ($f), $variant ($(( $(date +%s) - start )) s so far)" >&2
-      in_background probe "$member/$variant.h5" "$member/$variant"
+      in_background probe "$member/$variant.h5" "$member/$variant" "$f"
       args+=("$name:$i:$variant:$member/$variant")
     done
   done <<<"$files"
