@@ -97,6 +97,13 @@ def loss_vs_latency(rows, levels, out):
             for r in pts:
                 ax.annotate(note.format(r["iterations"]), (r["latency_ms_median"], r[y]),
                             fontsize=7, xytext=(3, 3), textcoords="offset points")
+        # A network refined until the solver's step is below a tolerance: a star per tolerance.
+        for r in (r for r in here if r["family"] == "refined_tolerance"):
+            tolerance = r["method"].rsplit(" + ", 1)[1]
+            ax.plot([r["latency_ms_median"]], [r[y]], "*", ms=10, color="tab:cyan",
+                    label="network + solver to a tolerance")
+            ax.annotate(tolerance, (r["latency_ms_median"], r[y]), fontsize=7,
+                        xytext=(3, -9), textcoords="offset points")
         fk = sorted((r for r in here if r["family"] == "fixed_k"), key=lambda r: r["K"])
         if fk:
             ax.plot([r["latency_ms_median"] for r in fk], [r[y] for r in fk], ".:",

@@ -38,6 +38,7 @@ struct Run {
   int64_t k_override = -1;           // fixed K, or -1 for the model's own
   int iterations = 0;
   bool with_body = true;
+  double tolerance_mm = 0;  // refined_tolerance: refined until the solver's step is below this
 };
 
 BenchRow run_one(const Run& run, const RolloutInput& body_input, const RolloutInput& free_input,
@@ -51,9 +52,10 @@ BenchRow run_one(const Run& run, const RolloutInput& body_input, const RolloutIn
   row.iterations = run.iterations;
   if (run.model) {
     step = network_stepper(*run.model, topology, run.k_override);
-    if (run.family == "refined") {
+    if (run.family == "refined" || run.family == "refined_tolerance") {
       RefineConfig refine;
       refine.iterations = run.iterations;
+      refine.tolerance_mm = run.tolerance_mm;
       refine.step = config.refine_step;
       step = refined_stepper(step, physics.solver, refine);
     }
@@ -70,7 +72,7 @@ BenchRow run_one(const Run& run, const RolloutInput& body_input, const RolloutIn
   std::vector<double> latency;
   const size_t skip = r.step_ms.size() > size_t(config.warmup_frames) ? size_t(config.warmup_frames) : 0;
   for (size_t i = skip; i < r.step_ms.size(); ++i)
-    latency.push_back(r.step_ms[i] + (run.model && run.family != "refined" ? 0.0 : r.contact_ms[i]));  // the solver needs contact
+    latency.push_back(r.step_ms[i] + (run.model && run.family.rfind("refined", 0) != 0 ? 0.0 : r.contact_ms[i]));  // the solver needs contact
   row.latency_ms_median = median(latency);
   row.latency_ms_min = latency.empty() ? NAN : *std::min_element(latency.begin(), latency.end());
   if (r.reports.empty()) {
@@ -153,6 +155,8 @@ BenchResult run_bench(const BenchConfig& config, const std::function<void(const 
     if (it < 1) throw Error("reference_iterations: budgets must be at least 1");
   for (int it : config.refine_iterations)
     if (it < 1) throw Error("refine_iterations: budgets must be at least 1");
+  for (double mm : config.refine_tolerances_mm)
+    if (!(mm > 0)) throw Error("refine_tolerances_mm: tolerances must be positive (mm)");
   for (const auto& c : config.reference_contacts)
     if (c != "penalty" && c != "barrier")
       throw Error("reference_contacts: unknown contact '" + c + "' (penalty | barrier)");
@@ -239,6 +243,10 @@ BenchResult run_bench(const BenchConfig& config, const std::function<void(const 
     for (size_t i = 0; i < models.size(); ++i)
       for (int it : config.refine_iterations)
         runs.push_back({names[i] + " + " + std::to_string(it) + " it", "refined", &models[i], -1, it});
+    for (size_t i = 0; i < models.size(); ++i)
+      for (double mm : config.refine_tolerances_mm)
+        runs.push_back({names[i] + " + to " + fmt::format("{:g}", mm) + " mm", "refined_tolerance", &models[i], -1, 0,
+                        true, mm});
     if (config.no_body_variant && effects.needs_body() && !models.empty()) {
       runs.push_back({names[0] + " (no body)", "no_body", &models[0], -1, 0, false});
       if (!config.reference_iterations.empty() && !config.reference_contacts.empty())

@@ -73,8 +73,8 @@ TEST(Bench, TinyConfigWritesSpecCsvWithFiniteValues) {
                                         "latency_ms_median", "latency_ms_min", "physics_loss"};
   EXPECT_EQ(rows[0], header);
   // tiny.yaml: 2 levels x (2 checkpoints + 2 fixed K + 1 ablation + 2 reference (penalty and
-  // barrier contact) + 2 refined (each checkpoint) + 2 no-body).
-  ASSERT_EQ(rows.size(), 1u + 2u * 11u);
+  // barrier contact) + 2 refined (each checkpoint) + 2 refined to a tolerance + 2 no-body).
+  ASSERT_EQ(rows.size(), 1u + 2u * 13u);
   // The shipped Pb4U's name follows its inference switches ("Pb4U + projection").
   const std::string pb4u = method_name(load_model_file(kSource + "/data/pretrained/pb4u.h5").config);
   ASSERT_EQ(pb4u.rfind("Pb4U", 0), 0u) << pb4u;
@@ -101,6 +101,8 @@ TEST(Bench, TinyConfigWritesSpecCsvWithFiniteValues) {
   EXPECT_EQ(per_method["Reference barrier (2 it)"], 2);  // the intersection-free contact
   EXPECT_EQ(per_method[pb4u + " + 2 it"], 2);  // refined by the solver
   EXPECT_EQ(per_method["MGN + 2 it"], 2);      // and MGN the same way
+  EXPECT_EQ(per_method[pb4u + " + to 1 mm"], 2);  // refined until the solver's step is under 1 mm
+  EXPECT_EQ(per_method["MGN + to 1 mm"], 2);
   EXPECT_EQ(per_method[pb4u + " (no body)"], 2);
   EXPECT_EQ(per_method["Reference (2 it) (no body)"], 2);
   EXPECT_EQ(fixed_k, (std::vector<int64_t>{0, 2, 0, 2}));
@@ -206,6 +208,9 @@ TEST(Bench, BadConfigsFailWithTheKey) {
   r = test::run_pb4u(bench_args(out, "--set reference_iterations=[0]"));
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.err.find("reference_iterations"), std::string::npos) << r.err;
+  r = test::run_pb4u(bench_args(out, "--set refine_tolerances_mm=[0]"));
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("refine_tolerances_mm"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(out + "/bench.csv"));
 }
 

@@ -46,6 +46,9 @@ struct BenchConfig {
   std::vector<int> refine_iterations;  // every checkpoint's steps refined by that many solver
                                        // iterations (rollout/refined_step.h, physics.solver's
                                        // contact), one row each: "<name> + N it"
+  // and refined until the solver's step is below each of these (mm, rollout/refined_step.h's
+  // tolerance_mm), one row each: "<name> + to T mm" (family refined_tolerance)
+  std::vector<double> refine_tolerances_mm;
   std::string refine_step = "newton";  // the refinement's solver step: newton | quasi_newton
   bool no_body_variant = true;  // also run the first checkpoint with gravity only (no body)
   int stage_repeats = 7;        // frames timed for the per-stage breakdown (median)
@@ -76,6 +79,7 @@ struct BenchConfig {
     v("reference_iterations", reference_iterations);
     v("reference_contacts", reference_contacts);
     v("refine_iterations", refine_iterations);
+    v("refine_tolerances_mm", refine_tolerances_mm);
     v("refine_step", refine_step, one_of({"quasi_newton", "newton"}));
     v("no_body_variant", no_body_variant);
     v("stage_repeats", stage_repeats, int_at_least(1));
