@@ -50,9 +50,10 @@ BenchRow run_one(const Run& run, const RolloutInput& body_input, const RolloutIn
   row.method = run.method;
   row.family = run.family;
   row.iterations = run.iterations;
+  const bool refined = run.family == "refined" || run.family == "refined_tolerance";
   if (run.model) {
     step = network_stepper(*run.model, topology, run.k_override);
-    if (run.family == "refined" || run.family == "refined_tolerance") {
+    if (refined) {
       RefineConfig refine;
       refine.iterations = run.iterations;
       refine.tolerance_mm = run.tolerance_mm;
@@ -72,7 +73,7 @@ BenchRow run_one(const Run& run, const RolloutInput& body_input, const RolloutIn
   std::vector<double> latency;
   const size_t skip = r.step_ms.size() > size_t(config.warmup_frames) ? size_t(config.warmup_frames) : 0;
   for (size_t i = skip; i < r.step_ms.size(); ++i)
-    latency.push_back(r.step_ms[i] + (run.model && run.family.rfind("refined", 0) != 0 ? 0.0 : r.contact_ms[i]));  // the solver needs contact
+    latency.push_back(r.step_ms[i] + (run.model && !refined ? 0.0 : r.contact_ms[i]));  // the solver needs contact
   row.latency_ms_median = median(latency);
   row.latency_ms_min = latency.empty() ? NAN : *std::min_element(latency.begin(), latency.end());
   if (r.reports.empty()) {

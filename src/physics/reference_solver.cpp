@@ -164,13 +164,15 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
   Eigen::MatrixXi strain_edges;
   Eigen::VectorXd rest_length;
   std::vector<char> strain_excluded;
-  std::vector<char> pinned_flags;  // per vertex, for the start's Provot passes
+  std::vector<char> pinned_flags;  // per vertex: the start's Provot passes hold them, the barrier moves them
+  {
+    const torch::Tensor pinned_cpu = pinned.to(torch::kCPU).contiguous();
+    pinned_flags.assign(pinned_cpu.data_ptr<bool>(), pinned_cpu.data_ptr<bool>() + n);
+  }
   StrainBarrierSettings strain_settings{config.strain_limit, config.strain_barrier_gap, config.strain_barrier_stiffness};
   if (strain) {
     strain_edges = barrier ? barrier->cloth_edges : unique_edges(index_tensor_to_matrix(cloth.faces));
     rest_length = tensor_to_matrix(cloth.edge_rest_length.to(torch::kCPU, torch::kFloat64).reshape({-1, 1})).col(0);
-    const torch::Tensor pinned_cpu = pinned.to(torch::kCPU).contiguous();
-    pinned_flags.assign(pinned_cpu.data_ptr<bool>(), pinned_cpu.data_ptr<bool>() + n);
     const double inside = std::max(0.0, config.strain_limit - 0.5 * config.strain_barrier_gap);
     x_base = matrix_to_tensor(shorten_overstretched_edges(tensor_to_matrix(x_base), strain_edges, rest_length, inside, pinned_flags),
                               opts.dtype().toScalarType(), state.x.device());
@@ -190,24 +192,29 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
   double closest = std::numeric_limits<double>::infinity();  // m: nearest pair at the last evaluation
   std::vector<char> excluded;
   const auto start_time = std::chrono::steady_clock::now();
-  // Pins are kinematic under barrier contact, as the body is: they start where they were at t
-  // (where the body at t left them room) and reach their targets with the body's motion.
+  // Pins are kinematic under barrier contact, as the body is: from the cloth at t they start
+  // where they were at t (where the body at t left them room) and reach their targets with the
+  // body's motion. A given step (x_start) is already at t + dt with the body placed there, and
+  // its pins at their targets. pin_now / pin_target: the pinned rows, k x 3.
   std::vector<int64_t> pin_rows;
-  Eigen::MatrixXd pin_target;
+  Eigen::MatrixXd pin_now, pin_target;
+  torch::Tensor pin_index;
   if (barrier) {
     Eigen::MatrixXd from = tensor_to_matrix(x_start ? x_base : state.x), to = tensor_to_matrix(x_base);
-    const torch::Tensor pinned_cpu = pinned.to(torch::kCPU).contiguous();
-    for (int64_t i = 0; i < n; ++i)
-      if (pinned_cpu.data_ptr<bool>()[i]) pin_rows.push_back(i);
-    if (!pin_rows.empty()) {
-      pin_target = to;
-      const Eigen::MatrixXd x_t = tensor_to_matrix(state.x);
-      for (int64_t i : pin_rows) from.row(i) = to.row(i) = x_t.row(i);
+    if (!x_start)
+      for (int64_t i = 0; i < n; ++i)
+        if (pinned_flags[size_t(i)]) pin_rows.push_back(i);
+    pin_now.resize(Eigen::Index(pin_rows.size()), 3);
+    pin_target.resize(Eigen::Index(pin_rows.size()), 3);
+    for (size_t j = 0; j < pin_rows.size(); ++j) {
+      pin_target.row(Eigen::Index(j)) = to.row(pin_rows[j]);
+      pin_now.row(Eigen::Index(j)) = to.row(pin_rows[j]) = from.row(pin_rows[j]);
     }
+    pin_index = torch::tensor(pin_rows, torch::kInt64).to(state.x.device());
     // From the cloth at t towards the ballistic prediction, or from the given step itself.
     FeasibleStart start = intersection_free_start(from, to, barrier->cloth_edges, barrier->body_t, barrier->body_faces,
                                                   barrier->settings.d_hat);
-    for (int64_t i : pin_rows) start.x.row(i) = from.row(i);  // the start moves no pin
+    for (size_t j = 0; j < pin_rows.size(); ++j) start.x.row(pin_rows[j]) = pin_now.row(Eigen::Index(j));  // no pin moved
     spdlog::debug("barrier start: {} pushed out, {} excluded, target reached {:.3f}, {:.0f} ms", start.pushed_out,
                   start.excluded_count, start.target_progress, ms_since(start_time));
     result.pushed_out = start.pushed_out;
@@ -402,21 +409,16 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
     return config.decrease_tolerance > 0 && -0.5 * slope < config.decrease_tolerance;
   };
   double accepted_closest = std::numeric_limits<double>::infinity();
+  // What is left of the pins' motion (k x 3), and the pins moved to `to` (k x 3).
+  auto pins_left = [&]() -> Eigen::MatrixXd { return pin_target - pin_now; };
+  auto move_pins = [&](const Eigen::MatrixXd& to) {
+    if (pin_rows.empty()) return;
+    pin_now = to;
+    x_base = x_base.index_copy(0, pin_index, matrix_to_tensor(pin_now, opts.dtype().toScalarType(), state.x.device()));
+  };
   // Where the cloth leaves the body no room (pinched between two body parts, or a body that
   // intersects itself) the body is placed at its pose after kMaxBodyMoves tries, and the cloth
   // it now cuts or holds leaves barrier contact for the penalty term (SolverResult::excluded).
-  // What is left of the pins' motion, as rows of the cloth (zero off the pins).
-  auto pins_left = [&](const Eigen::MatrixXd& X) {
-    Eigen::MatrixXd DP = Eigen::MatrixXd::Zero(n, 3);
-    for (int64_t i : pin_rows) DP.row(i) = pin_target.row(i) - X.row(i);
-    return DP;
-  };
-  auto move_pins = [&](const Eigen::MatrixXd& to) {  // pinned rows of x_base set from `to`
-    if (pin_rows.empty()) return;
-    Eigen::MatrixXd X = tensor_to_matrix(x_base);
-    for (int64_t i : pin_rows) X.row(i) = to.row(i);
-    x_base = matrix_to_tensor(X, opts.dtype().toScalarType(), state.x.device());
-  };
   auto place_body = [&](double left) {
     body.V = barrier->body_next;
     move_pins(pin_target);
@@ -434,7 +436,7 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
     result.body_lag = left;
   };
   auto body_left = [&]() {
-    const double pins = pin_rows.empty() ? 0.0 : pins_left(positions(q)).rowwise().norm().maxCoeff();
+    const double pins = pin_rows.empty() ? 0.0 : pins_left().rowwise().norm().maxCoeff();
     return std::max((barrier->body_next - body.V).rowwise().norm().maxCoeff(), pins);
   };
   // The body's move of this iteration: what is left of its motion (capped), the cloth it
@@ -452,9 +454,10 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
     const Eigen::MatrixXd DB = share * (barrier->body_next - body.V);
     const Eigen::MatrixXd X = positions(q);
     Eigen::MatrixXd D = carried_by_body(X, barrier->cloth_edges, body, DB, excluded, barrier->settings.d_hat / 2);
-    const Eigen::MatrixXd DP = share * pins_left(X);
     for (Eigen::Index i = 0; i < n; ++i)
-      if (!free_flags[size_t(i)]) D.row(i) = DP.row(i);
+      if (!free_flags[size_t(i)]) D.row(i).setZero();
+    const Eigen::MatrixXd DP = share * pins_left();
+    for (size_t j = 0; j < pin_rows.size(); ++j) D.row(pin_rows[j]) = DP.row(Eigen::Index(j));
     candidates = contact_candidates(X, D, barrier->cloth_edges, body, DB, barrier->settings.d_hat);
     drop_pairs_of(excluded, barrier->cloth_edges, &candidates);
     const double t = max_safe_step(X, D, barrier->cloth_edges, body, DB, candidates);
@@ -462,7 +465,7 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
     // A full step lands exactly on the pose and the pins' targets (no rounding left over).
     const bool home = t >= 1 && share >= 1;
     body.V = home ? barrier->body_next : Eigen::MatrixXd(body.V + t * DB);
-    move_pins(home ? pin_target : Eigen::MatrixXd(X + t * D));
+    move_pins(home ? pin_target : Eigen::MatrixXd(pin_now + t * DP));
     q = q + t * free_coordinates(D, free, opts);
     return true;
   };
