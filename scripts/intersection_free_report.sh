@@ -8,17 +8,20 @@
 # cloth out of barrier contact, and the positive energy. Writes DIR/report.md and prints it.
 #
 # Usage: scripts/intersection_free_report.sh [--out DIR] [--frames N] [--threads N]
-#            [--method barrier|penalty|net] [--checkpoint FILE] [--refine N] [SCENE ...]
+#            [--method barrier|penalty|net] [--checkpoint FILE] [--refine N]
+#            [--set KEY=VALUE ...] [SCENE ...]
 #   SCENE          scene files (default: every configs/scenes/*.yaml with a body)
 #   --method       barrier (default): simulate --method reference with solver.contact barrier;
 #                  penalty: simulate --method penalty; net: the network in --checkpoint
 #   --checkpoint   model file for --method net (default data/pretrained/pb4u.h5)
 #   --refine N     with --method net: each step refined by N iterations of the barrier solver
 #   --frames N     frames per scene (default 30)
+#   --set KEY=VAL  passed to simulate after the method's own settings (repeatable), e.g.
+#                  --set physics.solver.barrier_keeps_penalty=true
 # Scenes need the quick dataset (data/generated/quick, scripts/demo.sh makes it).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-out=runs/intersection_free frames=30 threads=1 method=barrier checkpoint=data/pretrained/pb4u.h5 refine=0 scenes=()
+out=runs/intersection_free frames=30 threads=1 method=barrier checkpoint=data/pretrained/pb4u.h5 refine=0 scenes=() sets=()
 while [ $# -gt 0 ]; do
   case "$1" in
     --out) out=$2; shift ;;
@@ -27,6 +30,7 @@ while [ $# -gt 0 ]; do
     --method) method=$2; shift ;;
     --checkpoint) checkpoint=$2; shift ;;
     --refine) refine=$2; shift ;;
+    --set) sets+=(--set "$2"); shift ;;
     -h|--help) awk 'NR > 1 && !/^#/ { exit } NR > 1 { sub(/^# ?/, ""); print }' "$0"; exit 0 ;;
     -*) echo "intersection_free_report.sh: unknown option '$1' (see --help)" >&2; exit 2 ;;
     *) scenes+=("$1") ;;
@@ -57,7 +61,7 @@ for scene in "${scenes[@]}"; do
   echo "== $name ($label, $frames frames)"
   "$PB4U" --threads "$threads" simulate --scene "$scene" --frames "$frames" "${args[@]}" \
     --set outputs.mesh_format=none --set outputs.plot=false --set outputs.preview=false \
-    --set outputs.usd=false --out "$out/$name" 2>&1 | tail -1
+    --set outputs.usd=false ${sets[@]+"${sets[@]}"} --out "$out/$name" 2>&1 | tail -1
 done
 "$PY" - "$out" "$label" "$frames" "${scenes[@]}" <<'EOF'
 import csv, os, sys

@@ -84,11 +84,12 @@ run_name() {  # NAME=... gives NAME; a bare path its base name
 # probe MODEL DIR [SOURCE]: the probes of one model file (or "reference", the solver) into DIR;
 # a probe whose result DIR already holds is not run again while the dataset and SOURCE (the file
 # MODEL was exported from; default MODEL) are those it was run on (their size and time in
-# DIR/stamp: a regenerated dataset or a new file under the same name clears DIR).
+# DIR/stamp, with pb4u's version: a regenerated dataset, a new file under the same name or
+# another version clears DIR).
 probe() {
   local model=$1 dir=$2 source=${3:-$1} method=() scene name file frames
   local stamp
-  stamp="$(stat -c '%s %Y' data/generated/quick/quick.h5 2>/dev/null) $( [ "$model" = reference ] || stat -c '%s %Y' "$source")"
+  stamp="$(stat -c '%s %Y' data/generated/quick/quick.h5 2>/dev/null) $( [ "$model" = reference ] || stat -c '%s %Y' "$source") $("$pb4u" --version 2>&1 | tail -1)"
   if [ "$(cat "$dir/stamp" 2>/dev/null)" != "$stamp" ]; then rm -rf "$dir"; fi
   mkdir -p "$dir"
   printf '%s' "$stamp" >"$dir/stamp"

@@ -32,8 +32,11 @@ void add_evaluate_command(CLI::App& app, const GlobalOptions& global) {
   auto args = std::make_shared<Args>();
   cmd->add_option("--checkpoint", args->checkpoints, "Training checkpoint or export (repeatable)");
   cmd->add_option("--name", args->names, "Column name for the n-th run: each --checkpoint once per entry of the config's passes (repeatable)");
-  cmd->add_option("--method", args->methods, "Extra method column: reference (the SPEC 8 solver)")
-      ->check(CLI::IsMember({"reference", "net"}));
+  cmd->add_option("--method", args->methods,
+                  "Extra method column (repeatable): reference (the SPEC 8 solver with the config's "
+                  "physics.solver.contact: by default barrier, intersection-free with SPEC 3.3's penalty kept beside "
+                  "it) | penalty (the solver with the penalty term alone, the reference before pb4u 0.2)")
+      ->check(CLI::IsMember({"reference", "penalty", "net"}));
   cmd->add_option("--config,-c", args->config, "Evaluation config (configs/eval/*.yaml)");
   cmd->add_option("--refine", args->refine,
                   "Refine each network step by N iterations of the reference solver (physics.solver; config key "
@@ -68,7 +71,8 @@ void add_evaluate_command(CLI::App& app, const GlobalOptions& global) {
     std::vector<EvalMethod> methods;
     for (size_t i = 0; i < models.size(); ++i) methods.push_back({names[i], &models[i]});
     for (const auto& m : args->methods)
-      if (m == "reference") methods.push_back({"Reference", nullptr});
+      if (m == "reference") methods.push_back({"Reference", nullptr, ""});
+      else if (m == "penalty") methods.push_back({"Penalty solver", nullptr, "penalty"});
     const auto results = evaluate(config, methods);
     if (args->format == "json") std::cout << format_json(results);
     else if (args->format == "csv") std::cout << format_csv(results);

@@ -32,8 +32,9 @@ void add_simulate_command(CLI::App& app, const GlobalOptions& global) {
   cmd->add_option("--scene,-s", args->scene, "Scene YAML")->required();
   cmd->add_option("--out,-o", args->out, "Output directory")->required();
   cmd->add_option("--method", args->method,
-                  "net | reference (the solver with the scene's physics.solver.contact: penalty by default, "
-                  "barrier for intersection-free contact) | penalty (the solver with penalty contact)")
+                  "net | reference (the solver with the scene's physics.solver.contact: by default barrier, "
+                  "intersection-free contact with SPEC 3.3's penalty kept beside it) | penalty (the solver with "
+                  "the penalty term alone, which lets cloth sit inside the body)")
       ->check(CLI::IsMember({"net", "reference", "penalty"}));
   cmd->add_option("--frames", args->frames, "Frames to simulate (overrides the scene's)")->check(CLI::PositiveNumber);
   cmd->add_option("--format", args->format, "Per-frame meshes: obj | ply | none (overrides the scene's)")
@@ -42,7 +43,7 @@ void add_simulate_command(CLI::App& app, const GlobalOptions& global) {
       ->check(CLI::IsMember({"on", "off"}));
   cmd->add_option("--refine", args->refine,
                   "Refine each network step by N iterations of the reference solver (physics.solver; with "
-                  "physics.solver.contact=barrier the step is made intersection-free first); 0: off (scene key "
+                  "barrier contact, the default, the step is made intersection-free first); 0: off (scene key "
                   "refine.iterations)")
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--refine-tolerance", args->refine_tolerance,

@@ -249,6 +249,8 @@ std::vector<LevelResult> evaluate(const EvalConfig& config, const std::vector<Ev
       mr.name = method.name;
       std::vector<EnergyReport> sequence_means;
       std::vector<PenetrationSummary> sequence_penetration;
+      PhysicsConfig physics = config.physics;  // the solver's contact as the method names it
+      if (!method.model && !method.solver_contact.empty()) physics.solver.contact = method.solver_contact;
       auto t0 = std::chrono::steady_clock::now();
       for (const Sequence& s : sequences) {
         const Garment& garment = *s.garment;
@@ -262,14 +264,13 @@ std::vector<LevelResult> evaluate(const EvalConfig& config, const std::vector<Ev
           if (config.refine.enabled()) step = refined_stepper(step, config.physics.solver, config.refine);
           if (mr.K == 0) mr.K = method.model->model->propagation_steps_for(topology.mean_edge_length);
         } else {
-          step = reference_stepper(config.physics.solver);
+          step = reference_stepper(physics.solver);
         }
         const bool keep_frames = !config.preview.empty() && &method == previewed;
         std::vector<Eigen::MatrixXd> frames;
         if (keep_frames) frames.push_back(in.x0);
         RolloutResult r = run_rollout(in, step,
-                                      physics_measured_for(config.physics, method.model,
-                                                           config.refine.enabled()),
+                                      physics_measured_for(physics, method.model, config.refine.enabled()),
                                       keep_frames ? FrameCallback([&frames](int, const Eigen::MatrixXd& x, const EnergyReport&,
                                                                             const PenetrationFigures*) { frames.push_back(x); })
                                                   : FrameCallback());

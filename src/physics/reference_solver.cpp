@@ -268,7 +268,7 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
   // caught them) fall back to the penalty term (SPEC 3.3) until a later step frees them.
   PenaltyFallback fallback;
   auto set_fallback = [&]() {
-    if (barrier) fallback = penalty_fallback(terms, contact, excluded);
+    if (barrier && !barrier->keeps_penalty) fallback = penalty_fallback(terms, contact, excluded);
   };
   set_fallback();
   auto positions = [&](const torch::Tensor& q) {
@@ -282,10 +282,10 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
   auto evaluate = [&](const torch::Tensor& q, torch::Tensor* grad) {
     torch::Tensor p = q.detach().reshape({nf, 3}).requires_grad_(true);
     torch::Tensor x = x_base.index_copy(0, free, p);
-    // With the barrier, it takes the penalty collision term's place in the objective.
+    // With the barrier, it takes the penalty collision term's place in the objective unless kept.
     torch::Tensor E = torch::zeros({}, x.options());
     for (const auto& term : terms)
-      if (!barrier || term->name() != "collision") E = E + term->energy(x, state, cloth, contact);
+      if (!barrier || !barrier->drops(*term)) E = E + term->energy(x, state, cloth, contact);
     if (fallback.active()) E = E + fallback.energy(x);
     *grad = torch::autograd::grad({E}, {p})[0].reshape({-1});
     ++result.evaluations;
@@ -368,7 +368,7 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
         sum = sum.defined() ? sum + c : c;
     };
     for (const auto& term : terms) {
-      if (barrier && term->name() == "collision") continue;
+      if (barrier && barrier->drops(*term)) continue;
       const torch::Tensor c = term->contact_stiffness(x, state, cloth, contact);
       if (c.defined()) add_curvature(*term, c);
     }
@@ -612,6 +612,8 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
   return result;
 }
 
+bool BarrierStepInput::drops(const PhysicsTerm& term) const { return !keeps_penalty && term.name() == "collision"; }
+
 std::optional<BarrierStepInput> barrier_step_input(const FrameState& state, const ClothGeometry& cloth,
                                                    const ReferenceSolverConfig& config) {
   if (config.contact != "barrier" || !state.effects.collision || !state.body.defined()) return std::nullopt;
@@ -626,6 +628,7 @@ std::optional<BarrierStepInput> barrier_step_input(const FrameState& state, cons
   input.cloth_edges = unique_edges(index_tensor_to_matrix(cloth.faces));
   input.settings.d_hat = config.barrier_distance;
   input.settings.stiffness = config.barrier_stiffness;
+  input.keeps_penalty = config.barrier_keeps_penalty;
   if (config.barrier_stiffness_max > 0 && config.barrier_stiffness_max < config.barrier_stiffness)
     throw Error("reference solver: solver.barrier_stiffness_max (" + std::to_string(config.barrier_stiffness_max) +
                 ") is below solver.barrier_stiffness (" + std::to_string(config.barrier_stiffness) + ")");

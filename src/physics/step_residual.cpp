@@ -39,11 +39,11 @@ double step_residual(const torch::Tensor& x_next, const FrameState& state, const
         vertices_not_free_of(X, barrier->cloth_edges, body.V, body.F, barrier->settings.d_hat);
     candidates = contact_candidates(X, {}, barrier->cloth_edges, body, {}, barrier->settings.d_hat);
     drop_pairs_of(excluded, barrier->cloth_edges, &candidates);
-    fallback = penalty_fallback(terms, contact, excluded);
+    if (!barrier->keeps_penalty) fallback = penalty_fallback(terms, contact, excluded);
   }
   torch::Tensor E = torch::zeros({}, x.options());
   for (const auto& term : terms)
-    if (!barrier || term->name() != "collision") E = E + term->energy(x, state, cloth, contact);
+    if (!barrier || !barrier->drops(*term)) E = E + term->energy(x, state, cloth, contact);
   E = E + fallback.energy(x);
   Eigen::MatrixXd G = tensor_to_matrix(torch::autograd::grad({E}, {x})[0]);
   Eigen::VectorXd barrier_curvature = Eigen::VectorXd::Zero(n);
@@ -59,7 +59,7 @@ double step_residual(const torch::Tensor& x_next, const FrameState& state, const
     torch::NoGradGuard no_grad;
     torch::Tensor contact_curvature;
     for (const auto& term : terms) {
-      if (barrier && term->name() == "collision") continue;
+      if (barrier && barrier->drops(*term)) continue;
       torch::Tensor c = term->contact_stiffness(x.detach(), state, cloth, contact);
       if (c.defined()) contact_curvature = contact_curvature.defined() ? contact_curvature + c : c;
     }

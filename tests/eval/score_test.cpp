@@ -27,10 +27,27 @@ namespace fs = std::filesystem;
 using test::kSource;
 using test::read_csv;
 
+// A solver rollout's energies.csv without the intersection-free solver's own account of each
+// step (cloth left out of barrier contact, the body's lag): score reads frames, not a solve.
+std::vector<std::vector<std::string>> without_solver_columns(std::vector<std::vector<std::string>> rows) {
+  static const std::vector<std::string> solver_only = {"contact_excluded", "caught_by_body", "body_lag_mm"};
+  if (rows.empty()) return rows;
+  std::vector<size_t> keep;
+  for (size_t c = 0; c < rows[0].size(); ++c)
+    if (std::find(solver_only.begin(), solver_only.end(), rows[0][c]) == solver_only.end()) keep.push_back(c);
+  for (auto& row : rows) {
+    std::vector<std::string> kept;
+    for (size_t c : keep)
+      if (c < row.size()) kept.push_back(row[c]);
+    row = std::move(kept);
+  }
+  return rows;
+}
+
 void expect_same_csv(const std::string& expected_path, const std::string& actual_text) {
   const std::string actual_path = expected_path + ".score.csv";
   test::write_file(actual_path, actual_text);
-  const auto want = read_csv(expected_path), got = read_csv(actual_path);
+  const auto want = without_solver_columns(read_csv(expected_path)), got = read_csv(actual_path);
   ASSERT_EQ(want.size(), got.size());
   ASSERT_GE(want.size(), 3u);
   EXPECT_EQ(want[0], got[0]);  // the same columns
@@ -96,10 +113,11 @@ TEST(Score, SimulatesOwnOutputReproducesItsEnergiesCsv) {
   auto pc2 = test::run_pb4u("-q score --frames " + sim + "/garment.pc2 --garment " + sim + "/garment_rest.obj " +
                             "--body-frames " + sim + "/body.pc2 --body " + sim + "/body_0000.obj --format csv");
   ASSERT_EQ(pc2.exit_code, 0) << pc2.err;
-  const auto want = read_csv(sim + "/energies.csv");
+  const auto want = without_solver_columns(read_csv(sim + "/energies.csv"));
   test::write_file(dir + "/pc2.csv", pc2.out);
   const auto got = read_csv(dir + "/pc2.csv");
   ASSERT_EQ(got.size(), want.size());
+  ASSERT_EQ(got[0], want[0]);
   for (size_t c = 1; c < want[0].size(); ++c) {
     // Differences of float32 positions: inertia and friction read velocities; the residual of a
     // converged step (~1.4e-4 mm here) moves when its positions are rounded to float32, whose

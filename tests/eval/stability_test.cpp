@@ -39,6 +39,24 @@ std::string error_of(const std::function<void()>& f) {
   return "";
 }
 
+TEST(Stability, PenaltyColumnIsTheSolverWithPenaltyContact) {
+  // `evaluate --method penalty`: the solver with SPEC 3.3's penalty alone, whatever the config's
+  // contact (the reference's default: barrier): the same figures as the reference column of a
+  // config set to penalty, and not the barrier reference's.
+  const EvalConfig config = tiny_eval({"levels=[1]", "max_frames=3", "max_sequences=1"});
+  const EvalConfig penalty_config = tiny_eval({"levels=[1]", "max_frames=3", "max_sequences=1",
+                                               "physics.solver.contact=penalty"});
+  ASSERT_EQ(config.physics.solver.contact, "barrier");
+  auto both = evaluate(config, {{"Reference", nullptr}, {"Penalty solver", nullptr, "penalty"}});
+  auto by_config = evaluate(penalty_config, {{"Reference", nullptr}});
+  const MethodResult &barrier = both[0].methods[0], &penalty = both[0].methods[1], &want = by_config[0].methods[0];
+  ASSERT_EQ(penalty.name, "Penalty solver");
+  ASSERT_EQ(penalty.per_sequence.size(), want.per_sequence.size());
+  for (size_t i = 0; i < want.per_sequence.size(); ++i)
+    EXPECT_EQ(penalty.per_sequence[i].positive_energy, want.per_sequence[i].positive_energy) << i;
+  EXPECT_NE(barrier.per_sequence[0].positive_energy, penalty.per_sequence[0].positive_energy);
+}
+
 TEST(Stability, EvaluateReportsPenetrationAndEverySequence) {
   const EvalConfig config = tiny_eval({"levels=[1]", "max_frames=3", "max_sequences=2"});
   auto levels = evaluate(config, {{"Pb4U", &shipped()}, {"Reference", nullptr}});

@@ -120,6 +120,9 @@ struct LevelResult {
 struct EvalMethod {
   std::string name;
   const ModelFile* model = nullptr;  // null: the reference solver
+  // The solver's body contact when model is null ("penalty" | "barrier"); empty: the config's
+  // physics.solver.contact.
+  std::string solver_contact;
 };
 
 // Method names for `models`: from each config, duplicates suffixed with the file stem;

@@ -48,6 +48,11 @@ struct BarrierStepInput {
   Eigen::MatrixXd body_t, body_next;
   Eigen::MatrixXi body_faces, cloth_edges;
   BarrierSettings settings;
+  // The penalty collision term stays in the objective on every vertex (barrier_keeps_penalty);
+  // else it holds only the vertices left out of barrier contact.
+  bool keeps_penalty = false;
+  // Whether a term is left out of the barrier objective (the penalty collision term, unless kept).
+  bool drops(const PhysicsTerm& term) const;
 };
 
 // One frame. terms: build_terms(state.effects, ...); contact: body_contact_for(state, ...)
