@@ -63,7 +63,9 @@ BenchRow run_one(const Run& run, const RolloutInput& body_input, const RolloutIn
     row.K = run.k_override >= 0 ? run.k_override : run.model->model->propagation_steps_for(topology.mean_edge_length);
   } else {
     physics.solver.max_iterations = run.iterations;
-    if (run.family == "reference_barrier") physics.solver.contact = "barrier";
+    // "Reference (N it)" rows are the penalty solver (as before pb4u 0.2, when it was the
+    // reference), "Reference barrier (N it)" the intersection-free reference.
+    physics.solver.contact = run.family == "reference_barrier" ? "barrier" : "penalty";
     step = reference_stepper(physics.solver);
   }
   RolloutResult r = run_rollout(in, step, physics);

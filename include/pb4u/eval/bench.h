@@ -40,8 +40,9 @@ struct BenchConfig {
   // no_propagation_control (K = K_base).
   std::vector<std::string> ablations;
   std::vector<int> reference_iterations{5, 20};  // L-BFGS budgets of the reference solver
-  // Its contact models, one row per budget each: "penalty" (rows "Reference (N it)") and
-  // "barrier", the intersection-free contact (rows "Reference barrier (N it)").
+  // Its contact models, one row per budget each: "penalty", the penalty solver (rows
+  // "Reference (N it)", the reference before pb4u 0.2), and "barrier", the intersection-free
+  // reference with the penalty kept beside it (rows "Reference barrier (N it)").
   std::vector<std::string> reference_contacts{"penalty"};
   std::vector<int> refine_iterations;  // every checkpoint's steps refined by that many solver
                                        // iterations (rollout/refined_step.h, physics.solver's
