@@ -28,7 +28,7 @@
 #   --last N     checkpoints taken from a run directory (default 3)
 #   --threads N  torch threads (default 1)
 #   --jobs N     model files probed at once (default 1; 2 on two idle cores halves the time)
-#   --reference  also the reference solver (penalty contact) on the one step, walk, hang and
+#   --reference  also the reference solver (pb4u >= 0.2: intersection-free) on the one step, walk, hang and
 #                unseen level 1 (minutes; kept in DIR/reference and reused while the dataset
 #                is the same file), and each probe's ratio to it
 #   --quick      a smoke test: 3 frames per rollout, levels 1 and 2 (seconds, not minutes)

@@ -141,7 +141,7 @@ def main(argv):
         cells.append(", ".join(diverged) if diverged else "none")
         lines.append("| " + " | ".join(cells) + " |")
     if ref:
-        cells = ["reference solver (penalty)", "-", "-"]
+        cells = ["reference solver", "-", "-"]
         cells += [cell([ref.get(c[0])], c[2]) if c[0] not in ("unseen_finest", "score") else "-" for c in COLUMNS]
         cells.append(", ".join(ref["diverged"]) or "none")
         lines.append("| " + " | ".join(cells) + " |")

@@ -310,7 +310,7 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
                         .repeat_interleave(3).to(opts);
   InverseHessian initial;
   std::shared_ptr<ElasticSolve> elastic;
-  const bool newton = config.step == "newton";
+  const bool newton = config.step == "newton" || (config.step == "auto" && barrier);
   std::vector<int> row(n, -1);
   {
     torch::Tensor free_cpu = free.to(torch::kCPU);

@@ -219,7 +219,7 @@ Trainer::SampleResult Trainer::train_sample(std::mt19937_64& rng, int slot, int 
       const std::optional<BodyContact> c64 = body_contact_for(s, config_.physics);
       RefineConfig refine;
       refine.iterations = replay.refine_iterations;
-      refine.step = solver.step;  // the solver's own step (L-BFGS by default), as measured in docs/training.md
+      refine.step = solver.step;  // the solver's own step (auto: L-BFGS with penalty contact), as in docs/training.md
       const torch::Tensor refined = refine_step(x_carried, s, refine_cloth_[size_t(vi)], build_terms(s.effects, config_.physics),
                                                 c64 ? &*c64 : nullptr, solver, refine);
       x_carried = refined.to(x_carried.device(), x_carried.scalar_type());
