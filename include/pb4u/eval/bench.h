@@ -39,7 +39,9 @@ struct BenchConfig {
   // Inference-time switches on the first Pb4U checkpoint's weights: no_update_scaling,
   // no_propagation_control (K = K_base).
   std::vector<std::string> ablations;
-  std::vector<int> reference_iterations{5, 20};  // L-BFGS budgets of the reference solver
+  // Iteration budgets of the reference solver (physics.solver.step: auto takes Newton steps
+  // with barrier contact, L-BFGS with the penalty term alone)
+  std::vector<int> reference_iterations{5, 20};
   // Its contact models, one row per budget each: "penalty", the penalty solver (rows
   // "Reference (N it)", the reference before pb4u 0.2), and "barrier", the intersection-free
   // reference with the penalty kept beside it (rows "Reference barrier (N it)").
