@@ -43,22 +43,24 @@ struct Run {
 
 BenchRow run_one(const Run& run, const RolloutInput& body_input, const RolloutInput& free_input,
                  const GarmentTopology& topology, const BenchConfig& config) {
-  const RolloutInput& in = run.with_body ? body_input : free_input;
+  RolloutInput in = run.with_body ? body_input : free_input;  // a copy: it carries this run's step log
   PhysicsConfig physics = config.physics;
   StepFunction step;
+  auto step_log = std::make_shared<ContactStepLog>();
+  in.step_log = step_log;
   BenchRow row;
   row.method = run.method;
   row.family = run.family;
   row.iterations = run.iterations;
   const bool refined = run.family == "refined" || run.family == "refined_tolerance";
   if (run.model) {
-    step = network_stepper(*run.model, topology, run.k_override);
+    step = network_stepper(*run.model, topology, run.k_override, step_log);
     if (refined) {
       RefineConfig refine;
       refine.iterations = run.iterations;
       refine.tolerance_mm = run.tolerance_mm;
       refine.step = config.refine_step;
-      step = refined_stepper(step, physics.solver, refine);
+      step = refined_stepper(step, physics.solver, refine, step_log);
     }
     row.K = run.k_override >= 0 ? run.k_override : run.model->model->propagation_steps_for(topology.mean_edge_length);
   } else {
@@ -66,7 +68,7 @@ BenchRow run_one(const Run& run, const RolloutInput& body_input, const RolloutIn
     // "Reference (N it)" rows are the penalty solver (as before pb4u 0.2, when it was the
     // reference), "Reference barrier (N it)" the intersection-free reference.
     physics.solver.contact = run.family == "reference_barrier" ? "barrier" : "penalty";
-    step = reference_stepper(physics.solver);
+    step = reference_stepper(physics.solver, step_log);
   }
   RolloutResult r = run_rollout(in, step, physics);
   row.frames = int(r.reports.size());

@@ -257,14 +257,16 @@ std::vector<LevelResult> evaluate(const EvalConfig& config, const std::vector<Ev
         RolloutInput in = sequence_input(config, effects, s);
         GarmentTopology topology;
         StepFunction step;
+        auto step_log = std::make_shared<ContactStepLog>();
+        in.step_log = step_log;
         if (method.model) {
           topology = build_garment_topology(garment.mesh, garment.name,
                                             method.model->config.graph_options().geodesic_anchors);
-          step = network_stepper(*method.model, topology);
-          if (config.refine.enabled()) step = refined_stepper(step, config.physics.solver, config.refine);
+          step = network_stepper(*method.model, topology, -1, step_log);
+          if (config.refine.enabled()) step = refined_stepper(step, config.physics.solver, config.refine, step_log);
           if (mr.K == 0) mr.K = method.model->model->propagation_steps_for(topology.mean_edge_length);
         } else {
-          step = reference_stepper(physics.solver);
+          step = reference_stepper(physics.solver, step_log);
         }
         const bool keep_frames = !config.preview.empty() && &method == previewed;
         std::vector<Eigen::MatrixXd> frames;

@@ -409,6 +409,7 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
     return config.decrease_tolerance > 0 && -0.5 * slope < config.decrease_tolerance;
   };
   double accepted_closest = std::numeric_limits<double>::infinity();
+  const char* stopped_by = "the iteration limit";  // why the loop ended (the debug log says)
   // What is left of the pins' motion (k x 3), and the pins moved to `to` (k x 3).
   auto pins_left = [&]() -> Eigen::MatrixXd { return pin_target - pin_now; };
   auto move_pins = [&](const Eigen::MatrixXd& to) {
@@ -502,7 +503,10 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
     const bool body_home = !barrier || body_left() <= 0;
     last_slope = slope;
     const bool at_rest = step_norm <= config.step_tolerance || !(slope < 0) || small_decrease(slope);
-    if (at_rest && !body_moved && body_home) break;
+    if (at_rest && !body_moved && body_home) {
+      stopped_by = "rest";
+      break;
+    }
     if (!body_home) body_moved = true;  // keep going: the next iteration moves or places the body
     if (at_rest) {
       ++result.iterations;
@@ -525,6 +529,7 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
           ++result.iterations;
           continue;
         }
+        stopped_by = "CCD (no safe step along the direction)";
         break;
       }
       if (longest > kMaxContactStep) t *= kMaxContactStep / longest;
@@ -538,6 +543,7 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
           ++result.iterations;
           continue;
         }
+        stopped_by = "the strain limit (no step along the direction)";
         break;
       }
     }
@@ -557,6 +563,7 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
         ++result.iterations;
         continue;
       }
+      stopped_by = "the line search (no decrease along the direction)";
       break;  // no decrease left at this precision
     }
     torch::Tensor s = q_new - q, y = g_new - g;
@@ -587,7 +594,8 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
     }
     accepted_closest = closest;
   }
-  result.barrier_stiffness = settings.stiffness;
+  result.barrier_stiffness = barrier ? settings.stiffness : 0.0;
+  if (barrier && result.excluded > 0) result.excluded_vertices = excluded;
 
   if (barrier && body_left() > 0) place_body(body_left());  // the iterations ran out first
   result.x_next = x_base.index_copy(0, free, q.reshape({nf, 3})).detach();
@@ -600,10 +608,10 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
     result.min_distance = barrier_potential(X, barrier->cloth_edges, body, last, settings).min_distance;
     spdlog::debug("barrier step: {} iterations, {} evaluations, {} candidate pairs last, min distance {:.3g} mm, "
                   "body placed {:.3g} mm short, kappa {:.3g}, max strain {:.3g} ({} edges out of the strain barrier), "
-                  "{:.0f} ms",
+                  "stopped by {} (step {:.3g} mm, largest gradient {:.3g} N), {:.0f} ms",
                   result.iterations, result.evaluations, candidates.size(), 1e3 * result.min_distance,
                   1e3 * result.body_lag, settings.stiffness, result.max_strain, result.strain_excluded,
-                  ms_since(start_time));
+                  stopped_by, 1e3 * step_norm, nf ? g.abs().max().item<double>() : 0.0, ms_since(start_time));
   }
   result.energy = E;
   result.gradient_norm = nf ? g.abs().max().item<double>() : 0.0;

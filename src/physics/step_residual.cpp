@@ -13,7 +13,8 @@
 namespace pb4u {
 
 double step_residual(const torch::Tensor& x_next, const FrameState& state, const ClothGeometry& cloth,
-                     const TermList& terms, const BodyContact* contact, const BarrierStepInput* barrier) {
+                     const TermList& terms, const BodyContact* contact, const BarrierStepInput* barrier,
+                     const std::vector<char>* excluded_by_solver) {
   const int64_t n = cloth.num_vertices;
   std::vector<char> pinned(size_t(n), 0);
   if (state.effects.pins && state.pinned.defined()) {
@@ -36,7 +37,9 @@ double step_residual(const torch::Tensor& x_next, const FrameState& state, const
     X = tensor_to_matrix(x.detach());
     body = make_contact_surface(barrier->body_next, barrier->body_faces);
     const std::vector<char> excluded =
-        vertices_not_free_of(X, barrier->cloth_edges, body.V, body.F, barrier->settings.d_hat);
+        excluded_by_solver && int64_t(excluded_by_solver->size()) == n
+            ? *excluded_by_solver
+            : vertices_not_free_of(X, barrier->cloth_edges, body.V, body.F, barrier->settings.d_hat);
     candidates = contact_candidates(X, {}, barrier->cloth_edges, body, {}, barrier->settings.d_hat);
     drop_pairs_of(excluded, barrier->cloth_edges, &candidates);
     if (!barrier->keeps_penalty) fallback = penalty_fallback(terms, contact, excluded);

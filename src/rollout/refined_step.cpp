@@ -27,7 +27,7 @@ torch::Tensor refine_with(const torch::Tensor& x_step, const FrameState& state, 
   if (barrier) barrier->body_t = barrier->body_next;  // the step is already at t + dt
   const SolverResult r =
       solve_reference_step(state, cloth, terms, contact, config, barrier ? &*barrier : nullptr, &start);
-  if (log) *log = {r.excluded, r.caught_by_body, r.body_lag};
+  if (log) *log = {r.excluded, r.caught_by_body, r.body_lag, r.excluded_vertices, r.barrier_stiffness};
   return r.x_next.to(torch::kFloat64);
 }
 }  // namespace

@@ -106,7 +106,7 @@ StepFunction reference_stepper(const ReferenceSolverConfig& solver, std::shared_
                                const BodyContact* contact) {
     const std::optional<BarrierStepInput> barrier = barrier_step_input(state, cloth, solver);
     const SolverResult r = solve_reference_step(state, cloth, terms, contact, solver, barrier ? &*barrier : nullptr);
-    if (log) *log = {r.excluded, r.caught_by_body, r.body_lag};
+    if (log) *log = {r.excluded, r.caught_by_body, r.body_lag, r.excluded_vertices, r.barrier_stiffness};
     if (r.excluded > 0) {
       // Said once per rollout at the default level, every frame with -v.
       const auto level = *warned ? spdlog::level::debug : spdlog::level::warn;
@@ -221,9 +221,18 @@ RolloutResult run_rollout(const RolloutInput& in, const StepFunction& step,
         FrameState measured = state;
         measured.material = in.metric_material;
         // With barrier contact, the distance to the intersection-free solver's minimum.
-        const std::optional<BarrierStepInput> barrier = barrier_step_input(state, cloth, physics.solver);
+        std::optional<BarrierStepInput> barrier = barrier_step_input(state, cloth, physics.solver);
+        // Where this step was a barrier solve, the solver's own objective: its kappa and the
+        // vertices it left out (none where it left none).
+        std::vector<char> solver_excluded;
+        const bool solved = barrier && in.step_log && in.step_log->barrier_stiffness > 0;
+        if (solved) {
+          barrier->settings.stiffness = in.step_log->barrier_stiffness;
+          solver_excluded = in.step_log->excluded_vertices;
+          if (solver_excluded.empty()) solver_excluded.assign(size_t(cloth.num_vertices), 0);
+        }
         report.residual_mm = 1e3 * step_residual(x_next, measured, cloth, terms, contact ? &*contact : nullptr,
-                                                 barrier ? &*barrier : nullptr);
+                                                 barrier ? &*barrier : nullptr, solved ? &solver_excluded : nullptr);
       }
     }
     if (!finite) {

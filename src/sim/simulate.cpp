@@ -69,6 +69,7 @@ SimulateResult simulate(const SceneConfig& scene, const std::string& scene_path,
     contact_log = std::make_shared<ContactStepLog>();
     step = reference_stepper(scene.physics.solver, contact_log);
   }
+  in.step_log = contact_log;
   // The intersection-free solver's per-frame account of the cloth it left out of barrier contact.
   const bool file_refines = model && !scene.refine.enabled() && model->config.refine_iterations > 0;
   const bool barrier_columns =

@@ -36,6 +36,7 @@ struct SolverResult {
   int excluded = 0;          // vertices left out of barrier contact this step (the penalty term
                              // holds them): no free place at the start (intersection_free_start.h),
   int caught_by_body = 0;    // or, of those, cut or held by the body placed at its pose
+  std::vector<char> excluded_vertices;  // per cloth vertex, 1 for those left out (empty: none)
   // Strain barrier only (solver.strain_limit > 0; 0 / 0 otherwise):
   double max_strain = 0;     // largest edge strain at x_next over the edges in the barrier
   int strain_excluded = 0;   // edges left out of it: at or past the limit after the start's

@@ -22,7 +22,12 @@ struct BarrierStepInput;
 
 // m. terms: build_terms(state.effects, ...); contact: body_contact_for(state, ...) or null.
 // state.material is the material the energy is measured with.
+// excluded (per cloth vertex, with `barrier`): the vertices the solver that made x_next left out
+// of barrier contact, measured with the penalty term alone, instead of those not free of the
+// body at x_next (the solver's own objective: a vertex next to one it left inside ends an edge
+// through the body, yet the solver kept it in the barrier).
 double step_residual(const torch::Tensor& x_next, const FrameState& state, const ClothGeometry& cloth,
-                     const TermList& terms, const BodyContact* contact, const BarrierStepInput* barrier = nullptr);
+                     const TermList& terms, const BodyContact* contact, const BarrierStepInput* barrier = nullptr,
+                     const std::vector<char>* excluded = nullptr);
 
 }  // namespace pb4u

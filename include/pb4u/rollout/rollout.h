@@ -25,6 +25,8 @@
 
 namespace pb4u {
 
+struct ContactStepLog;
+
 struct RolloutInput {
   TriMesh garment_rest;              // rest shape (m): cloth geometry, topology, Lbar
   Eigen::MatrixXd x0, x_prev;        // n x 3 m: garment at frame 0 and one frame before
@@ -43,6 +45,9 @@ struct RolloutInput {
   double dt = 1.0 / 30.0;            // s
   DivergenceConfig divergence;       // when to stop beyond non-finite values
   bool measure_residual = true;      // each frame's EnergyReport::residual_mm (step_residual.h)
+  // The step's ContactStepLog, when its stepper writes one: the residual then measures the
+  // solver's objective (its left-out vertices and kappa) instead of recomputing who is free.
+  std::shared_ptr<const ContactStepLog> step_log;
 };
 
 // The rollout of `garment` worn by `body` under `motion`, from its LBS-initialised frame
@@ -66,9 +71,14 @@ using StepFunction = std::function<torch::Tensor(const FrameState& state, const 
 // What the reference solver's intersection-free contact did in the last step (solver.contact =
 // barrier with a body; zeros otherwise): the vertices it left out of barrier contact, those of
 // them the body caught, and how far the body was from its pose when it was placed there (m).
+// The residual of such a step is measured with the solver's own objective: its left-out
+// vertices (per cloth vertex, empty: none) and the barrier stiffness it ended with (J/m^2; 0:
+// not a barrier solve).
 struct ContactStepLog {
   int excluded = 0, caught_by_body = 0;
   double body_lag = 0;
+  std::vector<char> excluded_vertices;
+  double barrier_stiffness = 0;
 };
 
 // The network's step: K from its calibration and the garment's Lbar, or `k_override` if >= 0.
