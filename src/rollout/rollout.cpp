@@ -102,10 +102,14 @@ PhysicsConfig physics_measured_for(const PhysicsConfig& physics, const ModelFile
 
 StepFunction reference_stepper(const ReferenceSolverConfig& solver, std::shared_ptr<ContactStepLog> log) {
   auto warned = std::make_shared<bool>(false);
-  return [solver, warned, log](const FrameState& state, const ClothGeometry& cloth, const TermList& terms,
-                               const BodyContact* contact) {
-    const std::optional<BarrierStepInput> barrier = barrier_step_input(state, cloth, solver);
-    const SolverResult r = solve_reference_step(state, cloth, terms, contact, solver, barrier ? &*barrier : nullptr);
+  auto kappa = std::make_shared<double>(solver.barrier_stiffness);  // carried from step to step
+  return [solver, warned, kappa, log](const FrameState& state, const ClothGeometry& cloth, const TermList& terms,
+                                      const BodyContact* contact) {
+    ReferenceSolverConfig config = solver;
+    if (solver.barrier_stiffness_carries) config.barrier_stiffness = *kappa;
+    const std::optional<BarrierStepInput> barrier = barrier_step_input(state, cloth, config);
+    const SolverResult r = solve_reference_step(state, cloth, terms, contact, config, barrier ? &*barrier : nullptr);
+    if (r.barrier_stiffness > 0) *kappa = r.barrier_stiffness;
     if (log) *log = {r.excluded, r.caught_by_body, r.body_lag, r.excluded_vertices, r.barrier_stiffness};
     if (r.excluded > 0) {
       // Said once per rollout at the default level, every frame with -v.

@@ -21,6 +21,7 @@
 #include "pb4u/physics/reference_solver.h"
 #include "pb4u/physics/step_residual.h"
 #include "pb4u/rollout/refined_step.h"
+#include "pb4u/rollout/rollout.h"
 #include "pb4u/spatial/signed_distance_to_surface.h"
 #include "pb4u/util/eigen_tensor.h"
 #include "pb4u/util/error.h"
@@ -419,11 +420,9 @@ TEST(IntersectionFreeSolver, AdaptiveStiffnessHoldsAHeavyClothFartherOffTheBody)
     ClothOverSphere scene(0.002);
     scene.state.material.density *= 100;
     PhysicsConfig config = barrier_config();
-    // L-BFGS, as the adaptive kappa was built and measured. Open: with Newton steps (the
-    // default with barrier contact since pb4u 0.2) the soft start kappa = 1 J/m^2 lets the heavy
-    // cloth's pairs sink below d_hat / 100 by frame 6 (41 vertices excluded in 10 frames, 82
-    // cloth edges through the sphere at frame 6): kappa does not grow fast enough over Newton's
-    // few, long iterations.
+    // L-BFGS, as the adaptive kappa was built and measured. With Newton steps (the default with
+    // barrier contact since pb4u 0.2) kappa does not grow fast enough within a step over
+    // Newton's few, long iterations: NewtonCarryingKappa... below.
     config.solver.step = "quasi_newton";
     config.solver.barrier_stiffness = stiffness;
     config.solver.barrier_stiffness_max = stiffness_max;
@@ -449,6 +448,47 @@ TEST(IntersectionFreeSolver, AdaptiveStiffnessHoldsAHeavyClothFartherOffTheBody)
   EXPECT_LE(adaptive.barrier_stiffness, 1e4);
   EXPECT_EQ(adaptive_excluded, 0);
   EXPECT_GT(adaptive.min_distance, fixed.min_distance);
+}
+
+TEST(IntersectionFreeSolver, NewtonCarryingKappaFromStepToStepHoldsAHeavyClothOffTheBody) {
+  // The heavy cloth above with Newton steps, rolled out by the reference's stepper. Starting
+  // every step at kappa = 1 J/m^2, its pairs sink below d_hat / 100 and the next steps' starts
+  // leave vertices out of barrier contact. Carrying kappa from step to step (IPC keeps it),
+  // kappa grows over the frames and the cloth stays free of the sphere on every frame.
+  auto rest_on_sphere = [](bool carries, bool check_free) {
+    ClothOverSphere scene(0.002);
+    scene.state.material.density *= 100;
+    PhysicsConfig config = barrier_config();
+    ASSERT_EQ(config.solver.step, "auto");  // Newton with barrier contact
+    config.solver.barrier_stiffness = 1;
+    config.solver.barrier_stiffness_max = 1e4;
+    config.solver.barrier_stiffness_carries = carries;
+    auto log = std::make_shared<ContactStepLog>();
+    const StepFunction step = reference_stepper(config.solver, log);
+    const Eigen::MatrixXd body_V = tensor_to_matrix(scene.state.body.vertices);
+    int excluded = 0;
+    for (int frame = 0; frame < 10; ++frame) {
+      const TermList terms = build_terms(scene.state.effects, config);
+      const std::optional<BodyContact> contact = body_contact_for(scene.state, config);
+      const torch::Tensor x_next = step(scene.state, scene.cloth, terms, contact ? &*contact : nullptr);
+      scene.state.x_prev = scene.state.x;
+      scene.state.x = x_next;
+      excluded += log->excluded;
+      if (!check_free) continue;
+      const Freedom f = freedom(tensor_to_matrix(x_next), scene.edges, body_V, scene.sphere.F);
+      EXPECT_GT(f.min_distance, 0) << "frame " << frame;
+      EXPECT_EQ(f.edges_through, 0) << "frame " << frame;
+      EXPECT_EQ(log->excluded, 0) << "frame " << frame;
+    }
+    if (carries) {
+      EXPECT_GT(log->barrier_stiffness, 64);  // grown over the frames (512 here)
+      EXPECT_EQ(excluded, 0);
+    } else {
+      EXPECT_GT(excluded, 0);  // sunk past the start's touching distance
+    }
+  };
+  rest_on_sphere(false, false);
+  rest_on_sphere(true, true);
 }
 
 TEST(IntersectionFreeSolver, StiffnessCapBelowTheStartIsRefused) {

@@ -114,6 +114,10 @@ struct ReferenceSolverConfig {
   // step before. 0: kappa stays fixed.
   double barrier_stiffness_max = 1e5;
   double barrier_gap = 0.1;
+  // true: a rollout's next step starts at the kappa the last one ended with (IPC keeps kappa
+  // from step to step), not at barrier_stiffness; the reference's stepper carries it. Newton
+  // takes few iterations a step, too few for the doubling to catch a heavy cloth within one.
+  bool barrier_stiffness_carries = false;
   // Strain limiting as a barrier (strain_barrier.h, after C-IPC): no cloth edge longer than
   // (1 + strain_limit) x its rest length at the end of any line-search step; 0: off (SPEC 8's
   // solver has no limit). The barrier acts within strain_barrier_gap of the limit.
@@ -150,6 +154,7 @@ struct ReferenceSolverConfig {
     v("barrier_stiffness", barrier_stiffness, positive());
     v("barrier_stiffness_max", barrier_stiffness_max, non_negative());
     v("barrier_gap", barrier_gap, in_range(0.0, 1.0));
+    v("barrier_stiffness_carries", barrier_stiffness_carries);
     v("strain_limit", strain_limit, non_negative());
     v("strain_barrier_gap", strain_barrier_gap, positive());
     v("strain_barrier_stiffness", strain_barrier_stiffness, positive());
