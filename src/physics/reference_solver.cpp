@@ -409,7 +409,8 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
     return config.decrease_tolerance > 0 && -0.5 * slope < config.decrease_tolerance;
   };
   double accepted_closest = std::numeric_limits<double>::infinity();
-  const char* stopped_by = "the iteration limit";  // why the loop ended (the debug log says)
+  // Why the loop ended (the debug log says).
+  const char* stopped_by = nf > 0 ? "the iteration limit" : "nothing to solve (every vertex held)";
   // What is left of the pins' motion (k x 3), and the pins moved to `to` (k x 3).
   auto pins_left = [&]() -> Eigen::MatrixXd { return pin_target - pin_now; };
   auto move_pins = [&](const Eigen::MatrixXd& to) {
@@ -601,6 +602,7 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
   result.x_next = x_base.index_copy(0, free, q.reshape({nf, 3})).detach();
   if (strain)
     result.max_strain = strain_barrier(positions(q), strain_edges, rest_length, strain_settings, strain_excluded).max_strain;
+  result.gradient_norm = nf ? g.abs().max().item<double>() : 0.0;
   if (barrier) {
     const Eigen::MatrixXd X = positions(q);
     ContactCandidates last = contact_candidates(X, {}, barrier->cloth_edges, body, {}, barrier->settings.d_hat);
@@ -611,10 +613,9 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
                   "stopped by {} (step {:.3g} mm, largest gradient {:.3g} N), {:.0f} ms",
                   result.iterations, result.evaluations, candidates.size(), 1e3 * result.min_distance,
                   1e3 * result.body_lag, settings.stiffness, result.max_strain, result.strain_excluded,
-                  stopped_by, 1e3 * step_norm, nf ? g.abs().max().item<double>() : 0.0, ms_since(start_time));
+                  stopped_by, 1e3 * step_norm, result.gradient_norm, ms_since(start_time));
   }
   result.energy = E;
-  result.gradient_norm = nf ? g.abs().max().item<double>() : 0.0;
   result.step_norm = step_norm;
   result.converged = step_norm <= config.step_tolerance || small_decrease(last_slope);
   return result;

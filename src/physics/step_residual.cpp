@@ -36,10 +36,11 @@ double step_residual(const torch::Tensor& x_next, const FrameState& state, const
   if (barrier) {
     X = tensor_to_matrix(x.detach());
     body = make_contact_surface(barrier->body_next, barrier->body_faces);
-    const std::vector<char> excluded =
-        excluded_by_solver && int64_t(excluded_by_solver->size()) == n
-            ? *excluded_by_solver
-            : vertices_not_free_of(X, barrier->cloth_edges, body.V, body.F, barrier->settings.d_hat);
+    // The solver's set as it gave it (empty: it left none out), else who is not free at x_next.
+    std::vector<char> excluded = excluded_by_solver ? *excluded_by_solver
+                                                    : vertices_not_free_of(X, barrier->cloth_edges, body.V,
+                                                                           body.F, barrier->settings.d_hat);
+    if (excluded.empty()) excluded.assign(size_t(n), 0);
     candidates = contact_candidates(X, {}, barrier->cloth_edges, body, {}, barrier->settings.d_hat);
     drop_pairs_of(excluded, barrier->cloth_edges, &candidates);
     if (!barrier->keeps_penalty) fallback = penalty_fallback(terms, contact, excluded);

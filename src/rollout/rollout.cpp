@@ -227,16 +227,12 @@ RolloutResult run_rollout(const RolloutInput& in, const StepFunction& step,
         // With barrier contact, the distance to the intersection-free solver's minimum.
         std::optional<BarrierStepInput> barrier = barrier_step_input(state, cloth, physics.solver);
         // Where this step was a barrier solve, the solver's own objective: its kappa and the
-        // vertices it left out (none where it left none).
-        std::vector<char> solver_excluded;
+        // vertices it left out.
         const bool solved = barrier && in.step_log && in.step_log->barrier_stiffness > 0;
-        if (solved) {
-          barrier->settings.stiffness = in.step_log->barrier_stiffness;
-          solver_excluded = in.step_log->excluded_vertices;
-          if (solver_excluded.empty()) solver_excluded.assign(size_t(cloth.num_vertices), 0);
-        }
+        if (solved) barrier->settings.stiffness = in.step_log->barrier_stiffness;
         report.residual_mm = 1e3 * step_residual(x_next, measured, cloth, terms, contact ? &*contact : nullptr,
-                                                 barrier ? &*barrier : nullptr, solved ? &solver_excluded : nullptr);
+                                                 barrier ? &*barrier : nullptr,
+                                                 solved ? &in.step_log->excluded_vertices : nullptr);
       }
     }
     if (!finite) {

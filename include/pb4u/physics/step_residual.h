@@ -22,8 +22,8 @@ struct BarrierStepInput;
 
 // m. terms: build_terms(state.effects, ...); contact: body_contact_for(state, ...) or null.
 // state.material is the material the energy is measured with.
-// excluded (per cloth vertex, with `barrier`): the vertices the solver that made x_next left out
-// of barrier contact, measured with the penalty term alone, instead of those not free of the
+// excluded (per cloth vertex, with `barrier`; empty: none): the vertices the solver that made
+// x_next left out of barrier contact, measured with the penalty term alone, instead of those not free of the
 // body at x_next (the solver's own objective: a vertex next to one it left inside ends an edge
 // through the body, yet the solver kept it in the barrier).
 double step_residual(const torch::Tensor& x_next, const FrameState& state, const ClothGeometry& cloth,
