@@ -36,7 +36,8 @@ void add_export_command(CLI::App& app, const GlobalOptions& global) {
   cmd->add_option("--set", args->sets,
                   "Change an inference-time switch of the stored model config, e.g. --set\n"
                   "update_scaling=detail or --set strain_limit=0.1 (update_scaling, smooth_distance,\n"
-                  "propagation_control, contact_projection, strain_limit, refine_iterations only)");
+                  "propagation_control, contact_projection, strain_limit, refine_iterations,\n"
+                  "refine_tolerance_mm, refine_contact, refine_strain_limit only)");
   cmd->callback([args, &global] {
     apply_global_options(global);
     std::vector<ModelFile> models;

@@ -84,7 +84,7 @@ void add_simulate_command(CLI::App& app, const GlobalOptions& global) {
                  "{:.1f} ms per frame ({}); {} files in {}",
                  r.frames - 1, r.positive_mean, r.positive_max, inside, r.residual_mm_mean, r.residual_mm_max,
                  r.step_ms_mean,
-                 model ? (scene.refine.enabled() || model->config.refine_iterations > 0 ? "network step + refinement"
+                 model ? (scene.refine.enabled() || model->config.refines() ? "network step + refinement"
                                                                                        : "network step")
                        : "solver step",
                  r.files.size(), args->out);

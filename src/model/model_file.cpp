@@ -1,5 +1,6 @@
 #include "pb4u/model/model_file.h"
 
+#include <spdlog/fmt/fmt.h>
 #include <yaml-cpp/yaml.h>
 
 #include <fstream>
@@ -119,9 +120,10 @@ void set_inference_switches(ModelFile& model, const std::vector<std::string>& as
       throw Error("--set " + a + ": expected KEY=VALUE");
     if (key != "update_scaling" && key != "smooth_distance" && key != "propagation_control" &&
         key != "contact_projection" && key != "strain_limit" && key != "refine_iterations" &&
-        key != "refine_contact" && key != "refine_strain_limit")
+        key != "refine_tolerance_mm" && key != "refine_contact" && key != "refine_strain_limit")
       throw Error("--set " + a + ": only update_scaling, smooth_distance, propagation_control, "
-                  "contact_projection, strain_limit, refine_iterations, refine_contact and refine_strain_limit "
+                  "contact_projection, strain_limit, refine_iterations, refine_tolerance_mm, refine_contact and "
+                  "refine_strain_limit "
                   "can change without retraining (the weights stay as trained)");
     node[key] = a.substr(eq + 1);
   }
@@ -172,8 +174,9 @@ std::string network_name(const ModelConfig& config) {
 
 std::string method_name(const ModelConfig& config) {
   std::string refine;
-  if (config.refine_iterations > 0) {
-    refine = " + " + std::to_string(config.refine_iterations) + " it";
+  if (config.refines()) {
+    refine = config.refine_tolerance_mm > 0 ? fmt::format(" + to {:g} mm", config.refine_tolerance_mm)
+                                            : " + " + std::to_string(config.refine_iterations) + " it";
     if (config.refine_contact == "barrier" && config.refine_strain_limit > 0) refine += " (barrier, strain barrier)";
     else if (config.refine_contact == "barrier") refine += " (barrier)";
     else if (config.refine_strain_limit > 0) refine += " (strain barrier)";

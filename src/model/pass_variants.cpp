@@ -17,6 +17,7 @@ std::vector<ModelFile> pass_variants(const std::vector<ModelFile>& models, const
       ModelFile v = m;
       if (p != "shipped") {
         v.config.refine_iterations = 0;
+        v.config.refine_tolerance_mm = 0;
         v.config.contact_projection = p == "none" ? 0.0 : kShippedProjectionGap;
         v.config.strain_limit = p == "none" ? 0.0 : kShippedStrainLimit;
       }
@@ -24,7 +25,8 @@ std::vector<ModelFile> pass_variants(const std::vector<ModelFile>& models, const
       bool duplicate = false;
       for (const auto& s : seen)
         duplicate = duplicate || (s.contact_projection == c.contact_projection && s.strain_limit == c.strain_limit &&
-                                  s.refine_iterations == c.refine_iterations && s.refine_contact == c.refine_contact &&
+                                  s.refine_iterations == c.refine_iterations &&
+                                  s.refine_tolerance_mm == c.refine_tolerance_mm && s.refine_contact == c.refine_contact &&
                                   s.refine_strain_limit == c.refine_strain_limit);
       if (duplicate) continue;
       seen.push_back(c);

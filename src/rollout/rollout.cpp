@@ -82,9 +82,10 @@ StepFunction network_with_passes(const ModelFile& model, const GarmentTopology& 
 StepFunction network_stepper(const ModelFile& model, const GarmentTopology& topology, int64_t k_override,
                              std::shared_ptr<ContactStepLog> log) {
   StepFunction step = network_with_passes(model, topology, k_override);
-  if (model.config.refine_iterations <= 0) return step;
+  if (!model.config.refines()) return step;
   RefineConfig refine;
   refine.iterations = model.config.refine_iterations;
+  refine.tolerance_mm = model.config.refine_tolerance_mm;
   ReferenceSolverConfig solver;
   solver.contact = model.config.refine_contact;
   solver.strain_limit = model.config.refine_strain_limit;
@@ -93,7 +94,7 @@ StepFunction network_stepper(const ModelFile& model, const GarmentTopology& topo
 
 PhysicsConfig physics_measured_for(const PhysicsConfig& physics, const ModelFile* model, bool refined_by_config) {
   PhysicsConfig measured = physics;
-  if (model && !refined_by_config && model->config.refine_iterations > 0) {
+  if (model && !refined_by_config && model->config.refines()) {
     measured.solver.contact = model->config.refine_contact;
     measured.solver.strain_limit = model->config.refine_strain_limit;
   }

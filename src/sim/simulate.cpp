@@ -61,7 +61,7 @@ SimulateResult simulate(const SceneConfig& scene, const std::string& scene_path,
   if (model) {
     topology = build_garment_topology(setup.garment, "garment", model->config.graph_options().geodesic_anchors);
     contact_log = std::make_shared<ContactStepLog>();
-    step = network_stepper(*model, topology, -1, model->config.refine_iterations > 0 ? contact_log : nullptr);
+    step = network_stepper(*model, topology, -1, model->config.refines() ? contact_log : nullptr);
     if (scene.refine.enabled()) {
       step = refined_stepper(step, scene.physics.solver, scene.refine, contact_log);
     }
@@ -71,7 +71,7 @@ SimulateResult simulate(const SceneConfig& scene, const std::string& scene_path,
   }
   in.step_log = contact_log;
   // The intersection-free solver's per-frame account of the cloth it left out of barrier contact.
-  const bool file_refines = model && !scene.refine.enabled() && model->config.refine_iterations > 0;
+  const bool file_refines = model && !scene.refine.enabled() && model->config.refines();
   const bool barrier_columns =
       (!model || scene.refine.enabled() || file_refines) &&
       (file_refines ? model->config.refine_contact : scene.physics.solver.contact) == "barrier" &&

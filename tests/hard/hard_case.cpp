@@ -264,6 +264,7 @@ ShippedFigures check_shipped(const std::string& label, const RolloutInput& in, c
   alone.config.contact_projection = 0;
   alone.config.strain_limit = 0;
   alone.config.refine_iterations = 0;
+  alone.config.refine_tolerance_mm = 0;
   ShippedFigures fig;
   // The network alone and with its passes: measured against the same bounds, not judged.
   auto report = [&](const std::string& name, const ModelFile& model, RolloutFigures* out) {

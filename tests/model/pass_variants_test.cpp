@@ -35,6 +35,12 @@ TEST(PassVariants, EachNetworkAloneBesideItsOwnPassesDuplicatesDropped) {
   v = pass_variants({refined}, {"shipped", "none", "projection_strain"});
   EXPECT_EQ(names_of(v), (std::vector<std::string>{"Pb4U + projection + strain limit + 5 it", "Pb4U",
                                                     "Pb4U + projection + strain limit"}));
+  // And a file refined to a tolerance.
+  refined.config.refine_iterations = 0;
+  refined.config.refine_tolerance_mm = 1;
+  v = pass_variants({refined}, {"shipped", "none"});
+  EXPECT_EQ(names_of(v), (std::vector<std::string>{"Pb4U + projection + strain limit + to 1 mm", "Pb4U"}));
+  EXPECT_EQ(v[1].config.refine_tolerance_mm, 0.0);
 }
 
 TEST(PassVariants, UnknownOrNoEntryNamesTheKey) {

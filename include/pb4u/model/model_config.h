@@ -37,11 +37,15 @@ struct ModelConfig {
   // iterations of the reference solver (rollout/refined_step.h) with its default settings
   // but the two below. 0: off (training never refines).
   int refine_iterations = 0;
+  // > 0: refine each step instead until the solver's step is below this (mm; at most the
+  // solver's max_iterations), as `--refine-tolerance` does. 0: off.
+  double refine_tolerance_mm = 0.0;
   // The refinement's body contact: "penalty" (SPEC 3.3) or "barrier" (intersection-free), and
   // its strain limit as a barrier (physics/strain_barrier.h; 0: none). With barrier contact
   // and a limit the refined step needs neither pass above (docs/physics.md).
   std::string refine_contact = "penalty";
   double refine_strain_limit = 0.0;
+  bool refines() const { return refine_iterations > 0 || refine_tolerance_mm > 0; }
   int latent = 128;                        // width of every latent vector and hidden layer
   int mlp_hidden_layers = 2;               // hidden layers per MLP
   int num_blocks = 15;                     // N MeshGraphNet blocks in the update stack
@@ -94,6 +98,7 @@ struct ModelConfig {
     v("contact_projection", contact_projection, in_range(0.0, 0.05));
     v("strain_limit", strain_limit, in_range(0.0, 10.0));
     v("refine_iterations", refine_iterations, int_at_least(0));
+    v("refine_tolerance_mm", refine_tolerance_mm, non_negative());
     v("refine_contact", refine_contact, one_of({"penalty", "barrier"}));
     v("refine_strain_limit", refine_strain_limit, non_negative());
     v("latent", latent, int_at_least(1));

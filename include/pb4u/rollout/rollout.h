@@ -82,13 +82,13 @@ struct ContactStepLog {
 };
 
 // The network's step: K from its calibration and the garment's Lbar, or `k_override` if >= 0.
-// With the file's own refinement (refine_iterations), `log`, when given, is overwritten by each
+// With the file's own refinement (refine_iterations or refine_tolerance_mm), `log`, when given, is overwritten by each
 // refining solve.
 StepFunction network_stepper(const ModelFile& model, const GarmentTopology& topology, int64_t k_override = -1,
                              std::shared_ptr<ContactStepLog> log = nullptr);
 
 // The physics a rollout of `model` (null: the solver) is measured with: `physics`, but where the
-// model file refines its own steps (refine_iterations > 0) and `refined_by_config` does not
+// model file refines its own steps (ModelConfig::refines()) and `refined_by_config` does not
 // override that, the solver keys its refinement uses (refine_contact, refine_strain_limit), so
 // that the residual is measured on the objective the refinement minimises.
 PhysicsConfig physics_measured_for(const PhysicsConfig& physics, const ModelFile* model, bool refined_by_config);
