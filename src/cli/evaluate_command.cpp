@@ -43,7 +43,8 @@ void add_evaluate_command(CLI::App& app, const GlobalOptions& global) {
                   "refine.iterations); the network columns are named '+ N it'")
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--refine-tolerance", args->refine_tolerance,
-                  "Refine each network step until the solver's step is below MM millimetres (refine.tolerance_mm)")
+                  "Refine each network step until the solver's step is below MM millimetres; with --refine N, "
+                  "N iterations first, then on until below MM (refine.tolerance_mm)")
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--set", args->sets, "Override a config key, e.g. --set max_frames=10 (repeatable)");
   cmd->add_option("--format", args->format, "table | csv | json")->check(CLI::IsMember({"table", "csv", "json"}));
@@ -66,8 +67,7 @@ void add_evaluate_command(CLI::App& app, const GlobalOptions& global) {
     auto names = method_names(models, args->names);
     if (config.refine.enabled())
       for (auto& name : names)
-        name += config.refine.tolerance_mm > 0 ? fmt::format(" + to {} mm", config.refine.tolerance_mm)
-                                               : fmt::format(" + {} it", config.refine.iterations);
+        name += refine_label(config.refine.iterations, config.refine.tolerance_mm);
     std::vector<EvalMethod> methods;
     for (size_t i = 0; i < models.size(); ++i) methods.push_back({names[i], &models[i]});
     for (const auto& m : args->methods)

@@ -47,8 +47,8 @@ void add_simulate_command(CLI::App& app, const GlobalOptions& global) {
                   "refine.iterations)")
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--refine-tolerance", args->refine_tolerance,
-                  "Refine each network step until the solver's step is below MM millimetres (scene key "
-                  "refine.tolerance_mm)")
+                  "Refine each network step until the solver's step is below MM millimetres; with --refine N, "
+                  "N iterations first, then on until below MM (scene key refine.tolerance_mm)")
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--set", args->sets, "Override a scene key, e.g. --set material.mu=30000 (repeatable)");
   cmd->add_option("--device", args->device, "Where the network runs: cpu | cuda | cuda:N (metrics stay on the CPU)");

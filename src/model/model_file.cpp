@@ -175,8 +175,9 @@ std::string network_name(const ModelConfig& config) {
 std::string method_name(const ModelConfig& config) {
   std::string refine;
   if (config.refines()) {
-    refine = config.refine_tolerance_mm > 0 ? fmt::format(" + to {:g} mm", config.refine_tolerance_mm)
-                                            : " + " + std::to_string(config.refine_iterations) + " it";
+    // As rollout/refined_step.h's refine_label.
+    if (config.refine_iterations > 0) refine = " + " + std::to_string(config.refine_iterations) + " it";
+    if (config.refine_tolerance_mm > 0) refine += fmt::format(" + to {:g} mm", config.refine_tolerance_mm);
     if (config.refine_contact == "barrier" && config.refine_strain_limit > 0) refine += " (barrier, strain barrier)";
     else if (config.refine_contact == "barrier") refine += " (barrier)";
     else if (config.refine_strain_limit > 0) refine += " (strain barrier)";

@@ -1,49 +1,92 @@
 #include "pb4u/rollout/refined_step.h"
 
+#include <spdlog/fmt/fmt.h>
+
+#include <limits>
+#include <optional>
+
 #include "pb4u/physics/reference_solver.h"
 
 namespace pb4u {
 
 namespace {
-// The solver's settings for a refinement.
-ReferenceSolverConfig refining_solver(const ReferenceSolverConfig& solver, const RefineConfig& refine) {
+// The solver's settings for a refinement by a fixed count (tolerance_mm 0) or to a tolerance.
+ReferenceSolverConfig refining_solver(const ReferenceSolverConfig& solver, int iterations, double tolerance_mm) {
   ReferenceSolverConfig config = solver;
   // A fixed kappa: the potential the output is no higher than is the start's, at one stiffness.
   config.barrier_stiffness_max = 0;
-  config.step = refine.step;
-  if (refine.tolerance_mm > 0) {
-    config.step_tolerance = 1e-3 * refine.tolerance_mm;
+  if (tolerance_mm > 0) {
+    config.step_tolerance = 1e-3 * tolerance_mm;
   } else {
-    config.max_iterations = refine.iterations;
+    config.max_iterations = iterations;
   }
   return config;
 }
 
 torch::Tensor refine_with(const torch::Tensor& x_step, const FrameState& state, const ClothGeometry& cloth,
                           const TermList& terms, const BodyContact* contact, const ReferenceSolverConfig& config,
-                          ContactStepLog* log) {
+                          ContactStepLog* log, double* step_norm = nullptr) {
   const torch::Tensor start = x_step.to(torch::kFloat64);
   std::optional<BarrierStepInput> barrier = barrier_step_input(state, cloth, config);
   if (barrier) barrier->body_t = barrier->body_next;  // the step is already at t + dt
   const SolverResult r =
       solve_reference_step(state, cloth, terms, contact, config, barrier ? &*barrier : nullptr, &start);
   if (log) *log = {r.excluded, r.caught_by_body, r.body_lag, r.excluded_vertices, r.barrier_stiffness};
+  if (step_norm) *step_norm = r.step_norm;
   return r.x_next.to(torch::kFloat64);
 }
+
+// A refinement's solver settings: a fixed count, a tolerance, or the count and then the tolerance.
+struct RefiningSolvers {
+  std::optional<ReferenceSolverConfig> fixed, to_tolerance;
+  double tolerance_m = 0;
+};
+
+RefiningSolvers refining_solvers(const ReferenceSolverConfig& solver, const RefineConfig& refine) {
+  RefiningSolvers s;
+  ReferenceSolverConfig base = solver;
+  base.step = refine.step;
+  // A count of 0 without a tolerance still makes the step feasible (intersection-free start).
+  if (refine.iterations > 0 || !(refine.tolerance_mm > 0)) s.fixed = refining_solver(base, refine.iterations, 0);
+  if (refine.tolerance_mm > 0) {
+    s.to_tolerance = refining_solver(base, 0, refine.tolerance_mm);
+    s.tolerance_m = 1e-3 * refine.tolerance_mm;
+  }
+  return s;
+}
+
+torch::Tensor refine_by(const RefiningSolvers& s, const torch::Tensor& x_step, const FrameState& state,
+                        const ClothGeometry& cloth, const TermList& terms, const BodyContact* contact,
+                        ContactStepLog* log) {
+  torch::Tensor x = x_step;
+  double step_norm = std::numeric_limits<double>::infinity();
+  if (s.fixed) x = refine_with(x, state, cloth, terms, contact, *s.fixed, log, &step_norm);
+  // Past the fixed count, on to the tolerance unless the count already got there.
+  if (s.to_tolerance && !(step_norm <= s.tolerance_m))
+    x = refine_with(x, state, cloth, terms, contact, *s.to_tolerance, log);
+  return x;
+}
 }  // namespace
+
+std::string refine_label(int iterations, double tolerance_mm) {
+  std::string label;
+  if (iterations > 0) label += " + " + std::to_string(iterations) + " it";
+  if (tolerance_mm > 0) label += fmt::format(" + to {:g} mm", tolerance_mm);
+  return label;
+}
 
 torch::Tensor refine_step(const torch::Tensor& x_step, const FrameState& state, const ClothGeometry& cloth,
                           const TermList& terms, const BodyContact* contact, const ReferenceSolverConfig& solver,
                           const RefineConfig& refine, ContactStepLog* log) {
-  return refine_with(x_step, state, cloth, terms, contact, refining_solver(solver, refine), log);
+  return refine_by(refining_solvers(solver, refine), x_step, state, cloth, terms, contact, log);
 }
 
 StepFunction refined_stepper(StepFunction inner, const ReferenceSolverConfig& solver, const RefineConfig& refine,
                              std::shared_ptr<ContactStepLog> log) {
-  const ReferenceSolverConfig config = refining_solver(solver, refine);
-  return [inner, config, log](const FrameState& state, const ClothGeometry& cloth, const TermList& terms,
-                              const BodyContact* contact) {
-    return refine_with(inner(state, cloth, terms, contact), state, cloth, terms, contact, config, log.get());
+  const RefiningSolvers solvers = refining_solvers(solver, refine);
+  return [inner, solvers, log](const FrameState& state, const ClothGeometry& cloth, const TermList& terms,
+                               const BodyContact* contact) {
+    return refine_by(solvers, inner(state, cloth, terms, contact), state, cloth, terms, contact, log.get());
   };
 }
 

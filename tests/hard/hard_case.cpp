@@ -266,22 +266,29 @@ ShippedFigures check_shipped(const std::string& label, const RolloutInput& in, c
   alone.config.refine_iterations = 0;
   alone.config.refine_tolerance_mm = 0;
   ShippedFigures fig;
-  // The network alone and with its passes: measured against the same bounds, not judged.
-  auto report = [&](const std::string& name, const ModelFile& model, RolloutFigures* out) {
-    *out = check_rollout(label + " / " + name, in, network_stepper(model, topology), p, bounds, Judge::kReport);
+  Bounds refined_bounds = bounds;
+  refined_bounds.intersection_free = p.solver.contact == "barrier";
+  auto refined_by = [&](const RefineConfig& refine) {
+    return refined_stepper(network_stepper(shipped_model(), topology), p.solver, refine);
+  };
+  // The network alone, with its passes and refined by a fixed count: measured against the same
+  // bounds, not judged.
+  auto report = [&](const std::string& name, const StepFunction& step, const Bounds& b, RolloutFigures* out) {
+    *out = check_rollout(label + " / " + name, in, step, p, b, Judge::kReport);
     const bool within = check_relative(label + " / " + name, *out, reference, relative, Judge::kReport);
     std::printf("[hard] %s / %s: %s\n", label.c_str(), name.c_str(),
                 within && out->violations == 0 ? "within the bounds" : "OUTSIDE the bounds (reported, not judged)");
   };
-  report("Pb4U alone", alone, &fig.alone);
-  report("Pb4U + passes", shipped_model(), &fig.passes);
-  RefineConfig refine;
-  refine.iterations = kRefineIterations;
-  Bounds refined_bounds = bounds;
-  refined_bounds.intersection_free = p.solver.contact == "barrier";
-  const std::string refined = label + " / Pb4U + passes + " + std::to_string(kRefineIterations) + " it";
-  fig.refined = check_rollout(refined, in, refined_stepper(network_stepper(shipped_model(), topology), p.solver, refine),
-                              p, refined_bounds);
+  report("Pb4U alone", network_stepper(alone, topology), bounds, &fig.alone);
+  report("Pb4U + passes", network_stepper(shipped_model(), topology), bounds, &fig.passes);
+  RefineConfig fixed;
+  fixed.iterations = kRefineIterations;
+  report("Pb4U + passes" + refine_label(fixed.iterations, 0), refined_by(fixed), refined_bounds,
+         &fig.refined_fixed);
+  RefineConfig refine = fixed;
+  refine.tolerance_mm = kRefineToleranceMm;
+  const std::string refined = label + " / Pb4U + passes" + refine_label(refine.iterations, refine.tolerance_mm);
+  fig.refined = check_rollout(refined, in, refined_by(refine), p, refined_bounds);
   check_relative(refined, fig.refined, reference, relative);
   return fig;
 }

@@ -617,6 +617,32 @@ TEST(RefinedStep, AnyIterationCountEndsFreeOfTheBodyAndMoreIterationsNeverRaiseT
   }
 }
 
+TEST(RefinedStep, ACountThenAToleranceRunsTheCountFirstThenOnToTheMinimum) {
+  const ClothOverSphere scene(0.005);
+  const PhysicsConfig config = barrier_config();
+  const TermList terms = build_terms(scene.state.effects, config);
+  const std::optional<BodyContact> contact = body_contact_for(scene.state, config);
+  const torch::Tensor into_the_body =
+      (2 * scene.state.x - scene.state.x_prev - torch::tensor({0.0, 0.02, 0.0}, torch::kFloat64)).contiguous();
+  auto refined = [&](const torch::Tensor& x, int iterations, double tolerance_mm) {
+    RefineConfig refine;
+    refine.iterations = iterations;
+    refine.tolerance_mm = tolerance_mm;
+    return refine_step(x, scene.state, scene.cloth, terms, &*contact, config.solver, refine);
+  };
+  const torch::Tensor two = refined(into_the_body, 2, 0);
+  // A tolerance the count already meets adds nothing.
+  EXPECT_TRUE(torch::equal(refined(into_the_body, 2, 1000), two));
+  // A tight one goes on from there to the minimum: one more iteration barely moves it.
+  const torch::Tensor tight = refined(into_the_body, 2, 1e-3);
+  const double moved = (tight - two).abs().max().item<double>();
+  EXPECT_GT(moved, 1e-5);
+  EXPECT_LT((refined(tight, 1, 0) - tight).abs().max().item<double>(), 1e-3 * moved);
+  EXPECT_EQ(refine_label(2, 1e-3), " + 2 it + to 0.001 mm");
+  EXPECT_EQ(refine_label(0, 1), " + to 1 mm");
+  EXPECT_EQ(refine_label(10, 0), " + 10 it");
+}
+
 // Two plates of one body, 1 cm apart, a 10 cm cloth of grid x grid vertices between them; the
 // upper plate (half-width `upper` m) comes down 2 cm in the frame, through the lower one.
 struct PlatesClosingOnCloth {

@@ -20,7 +20,9 @@ namespace pb4u {
 struct RefineConfig {
   int iterations = 0;        // solver iterations after each step; 0 with tolerance_mm 0: off
   double tolerance_mm = 0;   // > 0: iterate (up to the solver's max_iterations) until the
-                             // quasi-Newton step is below this (mm) instead of a fixed count
+                             // solver's step is below this (mm); with iterations > 0 as well,
+                             // those first, then on until the step is below this
+
   // The solver's step for the refinement (physics.solver.step is the solver's own): "newton"
   // lands nearer the minimum per iteration (docs/physics.md, "The Newton step").
   std::string step = "newton";
@@ -33,6 +35,9 @@ struct RefineConfig {
     v("step", step, one_of({"quasi_newton", "newton"}));
   }
 };
+
+// " + N it", " + to T mm" or " + N it + to T mm": the refinement in a method's name.
+std::string refine_label(int iterations, double tolerance_mm);
 
 // One step x_step (n, 3) refined as `refine` says by the solver `solver` (its contact, barrier
 // or penalty, as configured): float64 on the CPU, as the state. `log`, when given, gets the
