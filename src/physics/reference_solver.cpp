@@ -505,7 +505,9 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
     last_slope = slope;
     const bool at_rest = step_norm <= config.step_tolerance || !(slope < 0) || small_decrease(slope);
     if (at_rest && !body_moved && body_home) {
-      stopped_by = "rest";
+      // No descent left along the Hessian's direction although the step is not small: not a
+      // minimum (a barrier pair nearly touching can leave the solve without one).
+      stopped_by = step_norm <= config.step_tolerance || small_decrease(slope) ? "rest" : "lost descent";
       break;
     }
     if (!body_home) body_moved = true;  // keep going: the next iteration moves or places the body
