@@ -172,12 +172,17 @@ std::string network_name(const ModelConfig& config) {
 
 }  // namespace
 
+std::string refine_label(int iterations, double tolerance_mm) {
+  std::string label;
+  if (iterations > 0) label += " + " + std::to_string(iterations) + " it";
+  if (tolerance_mm > 0) label += fmt::format(" + to {:g} mm", tolerance_mm);
+  return label;
+}
+
 std::string method_name(const ModelConfig& config) {
   std::string refine;
   if (config.refines()) {
-    // As rollout/refined_step.h's refine_label.
-    if (config.refine_iterations > 0) refine = " + " + std::to_string(config.refine_iterations) + " it";
-    if (config.refine_tolerance_mm > 0) refine += fmt::format(" + to {:g} mm", config.refine_tolerance_mm);
+    refine = refine_label(config.refine_iterations, config.refine_tolerance_mm);
     if (config.refine_contact == "barrier" && config.refine_strain_limit > 0) refine += " (barrier, strain barrier)";
     else if (config.refine_contact == "barrier") refine += " (barrier)";
     else if (config.refine_strain_limit > 0) refine += " (strain barrier)";

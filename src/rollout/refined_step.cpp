@@ -1,7 +1,5 @@
 #include "pb4u/rollout/refined_step.h"
 
-#include <spdlog/fmt/fmt.h>
-
 #include <limits>
 #include <optional>
 
@@ -67,13 +65,6 @@ torch::Tensor refine_by(const RefiningSolvers& s, const torch::Tensor& x_step, c
   return x;
 }
 }  // namespace
-
-std::string refine_label(int iterations, double tolerance_mm) {
-  std::string label;
-  if (iterations > 0) label += " + " + std::to_string(iterations) + " it";
-  if (tolerance_mm > 0) label += fmt::format(" + to {:g} mm", tolerance_mm);
-  return label;
-}
 
 torch::Tensor refine_step(const torch::Tensor& x_step, const FrameState& state, const ClothGeometry& cloth,
                           const TermList& terms, const BodyContact* contact, const ReferenceSolverConfig& solver,

@@ -12,9 +12,9 @@
 // mean and largest frame, with no floor; with a body at most 5 points more of its vertices
 // inside the body and at most 10 mm deeper). It runs four ways (hard::check_shipped): alone,
 // with its inference passes, refined by 10 solver iterations a step, and refined by those and
-// then on until the solver's step is below 1 mm; the last is judged, the other three print their figures and
-// verdict against the same bounds. The untrained
-// network is checked for finiteness only: nothing makes random weights physical. Sizes are tiny
+// then on until the solver's step is below 1 mm; the last is judged, the other three print
+// their figures and verdict against the same bounds. The untrained network is checked for
+// finiteness only: nothing makes random weights physical. Sizes are tiny
 // here; scripts/hard_cases.sh runs the same cases larger (PB4U_HARD_SCALE).
 #include <gtest/gtest.h>
 

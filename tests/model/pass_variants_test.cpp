@@ -41,6 +41,10 @@ TEST(PassVariants, EachNetworkAloneBesideItsOwnPassesDuplicatesDropped) {
   v = pass_variants({refined}, {"shipped", "none"});
   EXPECT_EQ(names_of(v), (std::vector<std::string>{"Pb4U + projection + strain limit + to 1 mm", "Pb4U"}));
   EXPECT_EQ(v[1].config.refine_tolerance_mm, 0.0);
+  // The refinement's part of a name, as evaluate's --refine / --refine-tolerance columns use it.
+  EXPECT_EQ(refine_label(2, 1e-3), " + 2 it + to 0.001 mm");
+  EXPECT_EQ(refine_label(0, 1), " + to 1 mm");
+  EXPECT_EQ(refine_label(10, 0), " + 10 it");
 }
 
 TEST(PassVariants, UnknownOrNoEntryNamesTheKey) {

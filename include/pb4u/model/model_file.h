@@ -48,8 +48,12 @@ void export_model_file(const ModelFile& model, const std::string& out);
 
 // The method's name for tables, from its config: "Pb4U", "MGN", "HOOD", "Pb4U w/o PC",
 // "Pb4U w/o US" or "Pb4U w/o both", with " + projection" when it projects out of the body and
-// " + strain limit" when it limits edge strain.
+// " + strain limit" when it limits edge strain, and its refinement (refine_label) after.
 std::string method_name(const ModelConfig& config);
+
+// " + N it", " + to T mm" or " + N it + to T mm": a refinement by the reference solver in a
+// method's name (N iterations, then on to T mm; rollout/refined_step.h).
+std::string refine_label(int iterations, double tolerance_mm);
 
 // Number of scalar learned parameters (buffers excluded).
 int64_t parameter_count(const torch::nn::Module& module);

@@ -22,7 +22,6 @@ struct RefineConfig {
   double tolerance_mm = 0;   // > 0: iterate (up to the solver's max_iterations) until the
                              // solver's step is below this (mm); with iterations > 0 as well,
                              // those first, then on until the step is below this
-
   // The solver's step for the refinement (physics.solver.step is the solver's own): "newton"
   // lands nearer the minimum per iteration (docs/physics.md, "The Newton step").
   std::string step = "newton";
@@ -35,9 +34,6 @@ struct RefineConfig {
     v("step", step, one_of({"quasi_newton", "newton"}));
   }
 };
-
-// " + N it", " + to T mm" or " + N it + to T mm": the refinement in a method's name.
-std::string refine_label(int iterations, double tolerance_mm);
 
 // One step x_step (n, 3) refined as `refine` says by the solver `solver` (its contact, barrier
 // or penalty, as configured): float64 on the CPU, as the state. `log`, when given, gets the

@@ -82,8 +82,8 @@ struct ContactStepLog {
 };
 
 // The network's step: K from its calibration and the garment's Lbar, or `k_override` if >= 0.
-// With the file's own refinement (refine_iterations or refine_tolerance_mm), `log`, when given, is overwritten by each
-// refining solve.
+// With the file's own refinement (refine_iterations, refine_tolerance_mm), `log`, when given,
+// is overwritten by each refining solve.
 StepFunction network_stepper(const ModelFile& model, const GarmentTopology& topology, int64_t k_override = -1,
                              std::shared_ptr<ContactStepLog> log = nullptr);
 
