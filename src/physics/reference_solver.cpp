@@ -11,6 +11,7 @@
 
 #include "pb4u/mesh/edges.h"
 #include "pb4u/physics/barrier_objective.h"
+#include "pb4u/physics/area_barrier.h"
 #include "pb4u/physics/bending_energy.h"
 #include "pb4u/physics/body_offset.h"
 #include "pb4u/physics/carried_by_body.h"
@@ -194,33 +195,60 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
   const auto start_time = std::chrono::steady_clock::now();
   // Pins are kinematic under barrier contact, as the body is: from the cloth at t they start
   // where they were at t (where the body at t left them room) and reach their targets with the
-  // body's motion. A given step (x_start) is already at t + dt with the body placed there, and
-  // its pins at their targets. pin_now / pin_target: the pinned rows, k x 3.
+  // body's motion. A given step (x_start) started where it stands is already at t + dt with the
+  // body placed there, and its pins at their targets. pin_now / pin_target: the pinned rows, k x 3.
   std::vector<int64_t> pin_rows;
   Eigen::MatrixXd pin_now, pin_target;
   torch::Tensor pin_index;
+  const Eigen::MatrixXd* body_start = nullptr;  // the body where the solve starts
   if (barrier) {
-    Eigen::MatrixXd from = tensor_to_matrix(x_start ? x_base : state.x), to = tensor_to_matrix(x_base);
-    if (!x_start)
-      for (int64_t i = 0; i < n; ++i)
-        if (pinned_flags[size_t(i)]) pin_rows.push_back(i);
-    pin_now.resize(Eigen::Index(pin_rows.size()), 3);
-    pin_target.resize(Eigen::Index(pin_rows.size()), 3);
-    for (size_t j = 0; j < pin_rows.size(); ++j) {
-      pin_target.row(Eigen::Index(j)) = to.row(pin_rows[j]);
-      pin_now.row(Eigen::Index(j)) = to.row(pin_rows[j]) = from.row(pin_rows[j]);
+    // From the cloth at t towards x_base against the body at t (the solver's own start, and a
+    // given step swept), or from the given step itself against the body at t + dt.
+    struct Start {
+      bool at_next = false;
+      FeasibleStart feasible;
+      std::vector<int64_t> pin_rows;
+      Eigen::MatrixXd pin_now, pin_target;
+    };
+    auto make_start = [&](bool at_next) {
+      Start s;
+      s.at_next = at_next;
+      Eigen::MatrixXd from = tensor_to_matrix(at_next ? x_base : state.x), to = tensor_to_matrix(x_base);
+      if (!at_next)
+        for (int64_t i = 0; i < n; ++i)
+          if (pinned_flags[size_t(i)]) s.pin_rows.push_back(i);
+      s.pin_now.resize(Eigen::Index(s.pin_rows.size()), 3);
+      s.pin_target.resize(Eigen::Index(s.pin_rows.size()), 3);
+      for (size_t j = 0; j < s.pin_rows.size(); ++j) {
+        s.pin_target.row(Eigen::Index(j)) = to.row(s.pin_rows[j]);
+        s.pin_now.row(Eigen::Index(j)) = to.row(s.pin_rows[j]) = from.row(s.pin_rows[j]);
+      }
+      s.feasible = intersection_free_start(from, to, barrier->cloth_edges, at_next ? barrier->body_next : barrier->body_t,
+                                           barrier->body_faces, barrier->settings.d_hat);
+      for (size_t j = 0; j < s.pin_rows.size(); ++j)
+        s.feasible.x.row(s.pin_rows[j]) = s.pin_now.row(Eigen::Index(j));  // no pin moved
+      spdlog::debug("barrier start{}: {} pushed out, {} excluded, target reached {:.3f}, {:.0f} ms",
+                    at_next ? " at the given step" : "", s.feasible.pushed_out, s.feasible.excluded_count,
+                    s.feasible.target_progress, ms_since(start_time));
+      return s;
+    };
+    using GivenStart = BarrierStepInput::GivenStart;
+    Start chosen = make_start(x_start && barrier->given_start != GivenStart::swept);
+    if (x_start && barrier->given_start == GivenStart::fewer_left_out && chosen.feasible.excluded_count > 0) {
+      Start swept = make_start(false);
+      if (swept.feasible.excluded_count < chosen.feasible.excluded_count) chosen = std::move(swept);
     }
+    result.swept_start = x_start && !chosen.at_next;
+    pin_rows = std::move(chosen.pin_rows);
+    pin_now = std::move(chosen.pin_now);
+    pin_target = std::move(chosen.pin_target);
     pin_index = torch::tensor(pin_rows, torch::kInt64).to(state.x.device());
-    // From the cloth at t towards the ballistic prediction, or from the given step itself.
-    FeasibleStart start = intersection_free_start(from, to, barrier->cloth_edges, barrier->body_t, barrier->body_faces,
-                                                  barrier->settings.d_hat);
-    for (size_t j = 0; j < pin_rows.size(); ++j) start.x.row(pin_rows[j]) = pin_now.row(Eigen::Index(j));  // no pin moved
-    spdlog::debug("barrier start: {} pushed out, {} excluded, target reached {:.3f}, {:.0f} ms", start.pushed_out,
-                  start.excluded_count, start.target_progress, ms_since(start_time));
+    body_start = chosen.at_next ? &barrier->body_next : &barrier->body_t;
+    FeasibleStart start = std::move(chosen.feasible);
     result.pushed_out = start.pushed_out;
     result.excluded = start.excluded_count;
     excluded = std::move(start.excluded);
-    body = make_contact_surface(barrier->body_t, barrier->body_faces);
+    body = make_contact_surface(*body_start, barrier->body_faces);
     if (strain) {
       // The pushes out of the body stretch edges. Alternating projections onto the two sets:
       // Provot (pins held), then out of the body again, until no edge is past the limit or
@@ -237,7 +265,7 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
       auto best = left_out(X, out);
       for (int round = 0; round < kStartRounds && best > 0; ++round) {
         const Eigen::MatrixXd shortened = shorten_overstretched_edges(X, strain_edges, rest_length, inside, pinned_flags);
-        FeasibleStart again = intersection_free_start(shortened, shortened, barrier->cloth_edges, barrier->body_t,
+        FeasibleStart again = intersection_free_start(shortened, shortened, barrier->cloth_edges, *body_start,
                                                       barrier->body_faces, barrier->settings.d_hat);
         X = std::move(again.x);
         out = std::move(again.excluded);
@@ -264,6 +292,27 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
       }
   };
   if (strain) exclude_overstretched(tensor_to_matrix(x_base));
+  // Area barrier: a face with no area where the solve starts, or after a body move, stays out of
+  // it until its area is back above the barrier's band.
+  const bool area = config.area_barrier_gap > 0;
+  const AreaBarrierSettings area_settings{config.area_barrier_gap, config.area_barrier_stiffness};
+  Eigen::MatrixXi area_faces;
+  Eigen::VectorXd rest_area;
+  std::vector<char> area_excluded;
+  auto exclude_collapsed = [&](const Eigen::MatrixXd& X) {
+    const std::vector<char> collapsed = faces_below_area(X, area_faces, rest_area, 0.0);
+    if (area_excluded.empty()) area_excluded.assign(collapsed.size(), 0);
+    for (size_t f = 0; f < collapsed.size(); ++f)
+      if (collapsed[f] && !area_excluded[f] && rest_area(Eigen::Index(f)) > 0) {  // (no rest area: never in it)
+        area_excluded[f] = 1;
+        ++result.area_excluded;
+      }
+  };
+  if (area) {
+    area_faces = index_tensor_to_matrix(cloth.faces);
+    rest_area = tensor_to_matrix(cloth.face_area.to(torch::kCPU, torch::kFloat64).reshape({-1, 1})).col(0);
+    exclude_collapsed(tensor_to_matrix(x_base));
+  }
   // The vertices out of barrier contact (the start found them no free place, or the placed body
   // caught them) fall back to the penalty term (SPEC 3.3) until a later step frees them.
   PenaltyFallback fallback;
@@ -290,7 +339,7 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
     *grad = torch::autograd::grad({E}, {p})[0].reshape({-1});
     ++result.evaluations;
     double energy = E.item<double>();
-    if (barrier || strain) {
+    if (barrier || strain || area) {
       const Eigen::MatrixXd X = positions(q);
       Eigen::MatrixXd G = Eigen::MatrixXd::Zero(n, 3);
       if (barrier) {
@@ -299,6 +348,7 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
         closest = b.min_distance;
       }
       if (strain) energy += strain_barrier(X, strain_edges, rest_length, strain_settings, strain_excluded, &G).energy;
+      if (area) energy += area_barrier(X, area_faces, rest_area, area_settings, area_excluded, &G).energy;
       *grad += free_coordinates(G, free, opts);
     }
     return energy;
@@ -337,7 +387,7 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
     elastic = std::make_shared<ElasticSolve>();
     elastic->base = quasi_newton_hessian(cloth, state.material, state.dt, row);
     elastic->row_of_vertex = row;
-    elastic->coordinates = (barrier || strain) && config.barrier_hessian == "blocks";
+    elastic->coordinates = (barrier || strain || area) && config.barrier_hessian == "blocks";
     elastic->hessian = CoordinateHessian(int(n));
     if (!elastic->coordinates) elastic->ldlt.analyzePattern(elastic->base);
     initial = [elastic](const torch::Tensor& r, const std::deque<Pair>&) { return (*elastic)(r); };
@@ -375,7 +425,7 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
     // The penalty's curvature at the vertices it holds, in the penalty term's direction.
     if (fallback.active()) add_curvature(*fallback.term, fallback.stiffness(x, state, cloth, contact));
     Eigen::MatrixXd X;  // the cloth where the Hessians below are taken
-    if (newton || barrier || strain) X = positions(q);
+    if (newton || barrier || strain || area) X = positions(q);
     if (newton) {  // the elastic terms' Hessian at the current state
       for (const auto& term : terms) {
         if (term->name() == "stretch") add_stretch_hessian(X, cloth, state.material, blocks);
@@ -383,11 +433,12 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
           add_bending_hessian(X, cloth, state.material, bending->degenerate_area(), blocks);
       }
     }
-    if (barrier || strain) {
+    if (barrier || strain || area) {
       Eigen::VectorXd curvature = Eigen::VectorXd::Zero(n);
       Eigen::VectorXd* diagonal = blocks ? nullptr : &curvature;
       if (barrier) barrier_potential(X, barrier->cloth_edges, body, candidates, settings, nullptr, diagonal, blocks);
       if (strain) strain_barrier(X, strain_edges, rest_length, strain_settings, strain_excluded, nullptr, diagonal, blocks);
+      if (area) area_barrier(X, area_faces, rest_area, area_settings, area_excluded, nullptr, diagonal, blocks);
       if (curvature.maxCoeff() > 0) {
         torch::Tensor c = torch::from_blob(curvature.data(), {n}, torch::kFloat64).clone().to(opts);
         sum = sum.defined() ? sum + c : c;
@@ -488,6 +539,7 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
     if (barrier && move_body()) {
       body_moved = true;
       if (strain) exclude_overstretched(positions(q));  // edges the carried cloth stretched past the limit
+      if (area) exclude_collapsed(positions(q));
       history.clear();  // the objective moved with the body
       E = evaluate(q, &g);
     }
@@ -550,6 +602,18 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
         break;
       }
     }
+    if (area) {  // no face through a collapse anywhere along the step
+      const Eigen::MatrixXd X = positions(q);
+      t = std::min(t, max_area_step(X, positions(q + t * d) - X, area_faces, area_excluded) * t);
+      if (!(t > 0)) {
+        if (body_moved) {
+          ++result.iterations;
+          continue;
+        }
+        stopped_by = "the area barrier (no step along the direction)";
+        break;
+      }
+    }
     bool accepted = false;
     torch::Tensor q_new, g_new;
     double E_new = E;
@@ -587,6 +651,12 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
       for (size_t e = 0; e < near.size(); ++e)
         if (strain_excluded[e] && !near[e]) strain_excluded[e] = 0;
     }
+    // A face left out of the area barrier rejoins it once its area is back above the band.
+    if (area && result.area_excluded > 0) {
+      const std::vector<char> small = faces_below_area(positions(q), area_faces, rest_area, config.area_barrier_gap);
+      for (size_t f = 0; f < small.size(); ++f)
+        if (area_excluded[f] && !small[f]) area_excluded[f] = 0;
+    }
     // IPC's adaptive stiffness: a pair still closing in below barrier_gap x d_hat doubles kappa
     // (up to barrier_stiffness_max), which moves the objective: the curvature pairs go.
     if (barrier && closest < config.barrier_gap * settings.d_hat && closest < accepted_closest &&
@@ -604,6 +674,8 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
   result.x_next = x_base.index_copy(0, free, q.reshape({nf, 3})).detach();
   if (strain)
     result.max_strain = strain_barrier(positions(q), strain_edges, rest_length, strain_settings, strain_excluded).max_strain;
+  if (area)
+    result.min_area_ratio = area_barrier(positions(q), area_faces, rest_area, area_settings, area_excluded).min_ratio;
   result.gradient_norm = nf ? g.abs().max().item<double>() : 0.0;
   if (barrier) {
     const Eigen::MatrixXd X = positions(q);
@@ -612,9 +684,11 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
     result.min_distance = barrier_potential(X, barrier->cloth_edges, body, last, settings).min_distance;
     spdlog::debug("barrier step: {} iterations, {} evaluations, {} candidate pairs last, min distance {:.3g} mm, "
                   "body placed {:.3g} mm short, kappa {:.3g}, max strain {:.3g} ({} edges out of the strain barrier), "
+                  "smallest area ratio {:.3g} ({} faces out of the area barrier), "
                   "stopped by {} (step {:.3g} mm, largest gradient {:.3g} N), {:.0f} ms",
                   result.iterations, result.evaluations, candidates.size(), 1e3 * result.min_distance,
                   1e3 * result.body_lag, settings.stiffness, result.max_strain, result.strain_excluded,
+                  result.min_area_ratio, result.area_excluded,
                   stopped_by, 1e3 * step_norm, result.gradient_norm, ms_since(start_time));
   }
   result.energy = E;
@@ -640,6 +714,9 @@ std::optional<BarrierStepInput> barrier_step_input(const FrameState& state, cons
   input.settings.d_hat = config.barrier_distance;
   input.settings.stiffness = config.barrier_stiffness;
   input.keeps_penalty = config.barrier_keeps_penalty;
+  input.given_start = config.given_start == "at_step"  ? BarrierStepInput::GivenStart::at_next
+                      : config.given_start == "swept" ? BarrierStepInput::GivenStart::swept
+                                                      : BarrierStepInput::GivenStart::fewer_left_out;
   if (config.barrier_stiffness_max > 0 && config.barrier_stiffness_max < config.barrier_stiffness)
     throw Error("reference solver: solver.barrier_stiffness_max (" + std::to_string(config.barrier_stiffness_max) +
                 ") is below solver.barrier_stiffness (" + std::to_string(config.barrier_stiffness) + ")");

@@ -25,8 +25,7 @@ torch::Tensor refine_with(const torch::Tensor& x_step, const FrameState& state, 
                           const TermList& terms, const BodyContact* contact, const ReferenceSolverConfig& config,
                           ContactStepLog* log, double* step_norm = nullptr) {
   const torch::Tensor start = x_step.to(torch::kFloat64);
-  std::optional<BarrierStepInput> barrier = barrier_step_input(state, cloth, config);
-  if (barrier) barrier->body_t = barrier->body_next;  // the step is already at t + dt
+  const std::optional<BarrierStepInput> barrier = barrier_step_input(state, cloth, config);
   const SolverResult r =
       solve_reference_step(state, cloth, terms, contact, config, barrier ? &*barrier : nullptr, &start);
   if (log) *log = {r.excluded, r.caught_by_body, r.body_lag, r.excluded_vertices, r.barrier_stiffness};

@@ -10,6 +10,7 @@
 #include "pb4u/physics/penetration.h"
 #include "pb4u/physics/reference_solver.h"
 #include "pb4u/physics/strain_barrier.h"
+#include "pb4u/util/eigen_tensor.h"
 #include "physics_test_util.h"
 #include "test_util.h"
 

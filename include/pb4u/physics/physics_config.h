@@ -124,6 +124,20 @@ struct ReferenceSolverConfig {
   double strain_limit = 0;
   double strain_barrier_gap = 0.01;
   double strain_barrier_stiffness = 1.0;  // J
+  // The barrier against collapse (area_barrier.h): no cloth triangle's area reaches zero in any
+  // line-search step; it acts below area_barrier_gap x the rest area (0: off), with a
+  // stiffness per rest area. A collapsed triangle stalled the solve (docs/physics.md).
+  double area_barrier_gap = 0.1;
+  double area_barrier_stiffness = 1e4;  // J/m^2
+  // Where a solve from a given step (a network's, `--refine`) starts, with barrier contact:
+  // "at_step" = the step itself, made free of the body at its pose at t + dt; "swept" = from the
+  // cloth at t towards the step against the body at t (as the solver's own start sweeps towards
+  // the ballistic prediction), the body then moving to its pose; "fewer_left_out" = at_step,
+  // unless that leaves vertices out of contact and the swept start leaves fewer. A step checked
+  // only where it ends can have passed through a fast body: fewer_left_out refines the box at
+  // 6 m/s free of it, but on the demo walk's 300 frames it reads 3.7x at_step's energy, at
+  // 1.5x its time (docs/physics.md, "Where a refinement starts").
+  std::string given_start = "at_step";
   // How the barriers' curvature (contact, strain) enters L-BFGS's elastic initial Hessian:
   // "diagonal" = one isotropic value per vertex; "blocks" = their Hessians on the coordinates
   // (coordinate_hessian.h; stiff along a contact's normal and an edge's direction, free across;
@@ -158,6 +172,9 @@ struct ReferenceSolverConfig {
     v("strain_limit", strain_limit, non_negative());
     v("strain_barrier_gap", strain_barrier_gap, positive());
     v("strain_barrier_stiffness", strain_barrier_stiffness, positive());
+    v("area_barrier_gap", area_barrier_gap, in_range(0.0, 1.0));
+    v("area_barrier_stiffness", area_barrier_stiffness, positive());
+    v("given_start", given_start, one_of({"at_step", "swept", "fewer_left_out"}));
     v("barrier_hessian", barrier_hessian, one_of({"blocks", "diagonal"}));
     v("step", step, one_of({"auto", "quasi_newton", "newton"}));
   }

@@ -41,6 +41,12 @@ struct SolverResult {
   double max_strain = 0;     // largest edge strain at x_next over the edges in the barrier
   int strain_excluded = 0;   // edges left out of it: at or past the limit after the start's
                              // Provot pass (both ends pinned) or carried there by the body
+  // Area barrier only (solver.area_barrier_gap > 0; 1 / 0 otherwise): the smallest area ratio
+  // A / A0 at x_next over the faces in the barrier, and the faces left out of it (collapsed
+  // where a step started or after a body move).
+  double min_area_ratio = 1;
+  int area_excluded = 0;
+  bool swept_start = false;  // a given step's start was swept from the cloth at t (GivenStart)
 };
 
 // The body of one step as intersection-free contact sees it: the body at t and t + dt, its
@@ -54,6 +60,13 @@ struct BarrierStepInput {
   bool keeps_penalty = false;
   // Whether a term is left out of the barrier objective (the penalty collision term, unless kept).
   bool drops(const PhysicsTerm& term) const;
+  // Where a solve from a given step (x_start, a network's) starts:
+  //   at_next: the step itself, at t + dt, made free of the body placed at its pose there;
+  //   swept: from the cloth at t towards the step against the body at t, as the solver's own
+  //     start sweeps towards the ballistic prediction; the body then moves to its pose;
+  //   fewer_left_out: at_next, unless it leaves vertices out of contact and swept leaves fewer.
+  enum class GivenStart { at_next, swept, fewer_left_out };
+  GivenStart given_start = GivenStart::at_next;
 };
 
 // One frame. terms: build_terms(state.effects, ...); contact: body_contact_for(state, ...)
@@ -65,7 +78,8 @@ struct BarrierStepInput {
 // every line-search step is cut to what CCD certifies. Vertices left out of barrier contact
 // (SolverResult::excluded) fall back to the penalty term.
 // x_start, when given (n, 3), is where the solve starts instead of the ballistic prediction
-// (pinned vertices still at their targets): a network's step to refine (rollout/refined_step.h).
+// (pinned vertices still at their targets): a network's step to refine (rollout/refined_step.h);
+// with barrier contact, where it stands or swept from t as barrier->given_start says.
 SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& cloth,
                                   const TermList& terms, const BodyContact* contact,
                                   const ReferenceSolverConfig& config,
