@@ -292,15 +292,17 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
       }
   };
   if (strain) exclude_overstretched(tensor_to_matrix(x_base));
-  // Area barrier: a face with no area where the solve starts, or after a body move, stays out of
-  // it until its area is back above the barrier's band.
+  // Area barrier: a face already in the barrier's band where the solve starts, or after a body
+  // move, stays out of it until its area is back above the band. The barrier keeps the solve from
+  // collapsing a face; it must not hold a face the start left folded over its neighbours (a
+  // fold undone through a collapse), which it would lock in.
   const bool area = config.area_barrier_gap > 0;
   const AreaBarrierSettings area_settings{config.area_barrier_gap, config.area_barrier_stiffness};
   Eigen::MatrixXi area_faces;
   Eigen::VectorXd rest_area;
   std::vector<char> area_excluded;
-  auto exclude_collapsed = [&](const Eigen::MatrixXd& X) {
-    const std::vector<char> collapsed = faces_below_area(X, area_faces, rest_area, 0.0);
+  auto exclude_compressed = [&](const Eigen::MatrixXd& X) {
+    const std::vector<char> collapsed = faces_below_area(X, area_faces, rest_area, config.area_barrier_gap);
     if (area_excluded.empty()) area_excluded.assign(collapsed.size(), 0);
     for (size_t f = 0; f < collapsed.size(); ++f)
       if (collapsed[f] && !area_excluded[f] && rest_area(Eigen::Index(f)) > 0) {  // (no rest area: never in it)
@@ -311,7 +313,7 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
   if (area) {
     area_faces = index_tensor_to_matrix(cloth.faces);
     rest_area = tensor_to_matrix(cloth.face_area.to(torch::kCPU, torch::kFloat64).reshape({-1, 1})).col(0);
-    exclude_collapsed(tensor_to_matrix(x_base));
+    exclude_compressed(tensor_to_matrix(x_base));
   }
   // The vertices out of barrier contact (the start found them no free place, or the placed body
   // caught them) fall back to the penalty term (SPEC 3.3) until a later step frees them.
@@ -539,7 +541,7 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
     if (barrier && move_body()) {
       body_moved = true;
       if (strain) exclude_overstretched(positions(q));  // edges the carried cloth stretched past the limit
-      if (area) exclude_collapsed(positions(q));
+      if (area) exclude_compressed(positions(q));
       history.clear();  // the objective moved with the body
       E = evaluate(q, &g);
     }

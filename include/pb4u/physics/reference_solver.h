@@ -42,8 +42,8 @@ struct SolverResult {
   int strain_excluded = 0;   // edges left out of it: at or past the limit after the start's
                              // Provot pass (both ends pinned) or carried there by the body
   // Area barrier only (solver.area_barrier_gap > 0; 1 / 0 otherwise): the smallest area ratio
-  // A / A0 at x_next over the faces in the barrier, and the faces left out of it (collapsed
-  // where a step started or after a body move).
+  // A / A0 at x_next over the faces in the barrier, and the faces left out of it (in its band
+  // where the step started or after a body move).
   double min_area_ratio = 1;
   int area_excluded = 0;
   bool swept_start = false;  // a given step's start was swept from the cloth at t (GivenStart)
