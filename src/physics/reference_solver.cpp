@@ -716,7 +716,7 @@ std::optional<BarrierStepInput> barrier_step_input(const FrameState& state, cons
   input.settings.d_hat = config.barrier_distance;
   input.settings.stiffness = config.barrier_stiffness;
   input.keeps_penalty = config.barrier_keeps_penalty;
-  input.given_start = config.given_start == "at_step"  ? BarrierStepInput::GivenStart::at_next
+  input.given_start = config.given_start == "at_step"  ? BarrierStepInput::GivenStart::at_step
                       : config.given_start == "swept" ? BarrierStepInput::GivenStart::swept
                                                       : BarrierStepInput::GivenStart::fewer_left_out;
   if (config.barrier_stiffness_max > 0 && config.barrier_stiffness_max < config.barrier_stiffness)

@@ -61,12 +61,12 @@ struct BarrierStepInput {
   // Whether a term is left out of the barrier objective (the penalty collision term, unless kept).
   bool drops(const PhysicsTerm& term) const;
   // Where a solve from a given step (x_start, a network's) starts:
-  //   at_next: the step itself, at t + dt, made free of the body placed at its pose there;
+  //   at_step: the step itself, at t + dt, made free of the body placed at its pose there;
   //   swept: from the cloth at t towards the step against the body at t, as the solver's own
   //     start sweeps towards the ballistic prediction; the body then moves to its pose;
-  //   fewer_left_out: at_next, unless it leaves vertices out of contact and swept leaves fewer.
-  enum class GivenStart { at_next, swept, fewer_left_out };
-  GivenStart given_start = GivenStart::at_next;
+  //   fewer_left_out: at_step, unless it leaves vertices out of contact and swept leaves fewer.
+  enum class GivenStart { at_step, swept, fewer_left_out };
+  GivenStart given_start = GivenStart::at_step;
 };
 
 // One frame. terms: build_terms(state.effects, ...); contact: body_contact_for(state, ...)
