@@ -171,6 +171,7 @@ RolloutInput sequence_input(const EvalConfig& config, const Effects& effects, co
     in.pinned = top_band_vertices(s.garment->mesh.V, config.waistband.band);
     in.pin_targets = skinned_pin_targets(*s.body, *s.garment, s.motion->motion, config.start_frame, in.body,
                                          config.push_out_gap);
+    hold_pins_free_of_body(in);
   }
   in.divergence = config.divergence;
   return in;

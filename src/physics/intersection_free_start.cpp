@@ -1,6 +1,7 @@
 #include "pb4u/physics/intersection_free_start.h"
 
 #include <algorithm>
+#include <array>
 
 #include "pb4u/physics/barrier_potential.h"
 #include "pb4u/physics/pair_distances.h"
@@ -35,6 +36,35 @@ std::vector<char> vertices_not_free_of(const Eigen::MatrixXd& x, const Eigen::Ma
       for (int i = 0; i < cloth_points; ++i) out[size_t(points[i])] = 1;
   });
   return out;
+}
+
+int push_pinned_edges_free_of_body(Eigen::MatrixXd& x, const std::vector<int>& pinned, const Eigen::MatrixXi& edges,
+                                   const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, double step, int max_rounds) {
+  // The pinned vertices and the edges between two of them, numbered among themselves.
+  std::vector<int> local(size_t(x.rows()), -1);
+  for (size_t k = 0; k < pinned.size(); ++k) local[size_t(pinned[k])] = int(k);
+  std::vector<std::array<int, 2>> kept;
+  for (Eigen::Index e = 0; e < edges.rows(); ++e) {
+    const int a = local[size_t(edges(e, 0))], b = local[size_t(edges(e, 1))];
+    if (a >= 0 && b >= 0) kept.push_back({a, b});
+  }
+  if (kept.empty()) return 0;
+  Eigen::MatrixXi band(Eigen::Index(kept.size()), 2);
+  for (size_t e = 0; e < kept.size(); ++e) band.row(Eigen::Index(e)) << kept[e][0], kept[e][1];
+  Eigen::MatrixXd p(Eigen::Index(pinned.size()), 3);
+  for (size_t k = 0; k < pinned.size(); ++k) p.row(Eigen::Index(k)) = x.row(pinned[k]);
+  const ContactSurface body = make_contact_surface(V, F);
+  std::vector<int> through = cloth_edges_through_body(p, band, body);
+  for (int round = 0; round < max_rounds && !through.empty(); ++round) {
+    std::vector<char> push(pinned.size(), 0);
+    for (int e : through) push[size_t(band(e, 0))] = push[size_t(band(e, 1))] = 1;
+    const Eigen::MatrixXd outward = project_onto_surface(p, V, F).outward;
+    for (size_t k = 0; k < pinned.size(); ++k)
+      if (push[k]) p.row(Eigen::Index(k)) += step * outward.row(Eigen::Index(k));
+    through = cloth_edges_through_body(p, band, body);
+  }
+  for (size_t k = 0; k < pinned.size(); ++k) x.row(pinned[k]) = p.row(Eigen::Index(k));
+  return int(through.size());
 }
 
 FeasibleStart intersection_free_start(const Eigen::MatrixXd& x_t, const Eigen::MatrixXd& target,

@@ -10,6 +10,7 @@
 #include "pb4u/mesh/edges.h"
 #include "pb4u/physics/barrier_potential.h"
 #include "pb4u/physics/cloth_geometry.h"
+#include "pb4u/physics/intersection_free_start.h"
 #include "pb4u/physics/reference_solver.h"
 #include "pb4u/physics/step_constraints.h"
 #include "pb4u/physics/step_residual.h"
@@ -45,6 +46,34 @@ std::vector<Eigen::MatrixXd> skinned_pin_targets(const Body& body, const Garment
   for (size_t k = 0; k < posed_bodies.size(); ++k)
     targets.push_back(lbs_garment(body, garment, motion, start + int(k), posed_bodies[k], push_out_gap));
   return targets;
+}
+
+int hold_pins_free_of_body(const Eigen::MatrixXi& garment_faces, const std::vector<int>& pinned,
+                           const std::vector<Eigen::MatrixXd>& body, const Eigen::MatrixXi& body_faces,
+                           std::vector<Eigen::MatrixXd>* pin_targets, Eigen::MatrixXd* x0, Eigen::MatrixXd* x_prev) {
+  if (pinned.empty() || pin_targets->empty()) return 0;
+  if (body.size() != pin_targets->size())
+    throw Error("pins: " + std::to_string(pin_targets->size()) + " frames of pin targets for " +
+                std::to_string(body.size()) + " body frames");
+  const Eigen::MatrixXi edges = unique_edges(garment_faces);
+  int most = 0;
+  for (size_t k = 0; k < pin_targets->size(); ++k) {
+    Eigen::MatrixXd& targets = (*pin_targets)[k];
+    const Eigen::MatrixXd before = targets;
+    most = std::max(most, push_pinned_edges_free_of_body(targets, pinned, edges, body[k], body_faces));
+    if (k == 0)
+      for (int i : pinned) {
+        const Eigen::RowVector3d moved = targets.row(i) - before.row(i);
+        x0->row(i) += moved;
+        x_prev->row(i) += moved;
+      }
+  }
+  return most;
+}
+
+int hold_pins_free_of_body(RolloutInput& in) {
+  return hold_pins_free_of_body(in.garment_rest.F, in.pinned, in.body, in.body_faces, &in.pin_targets, &in.x0,
+                                &in.x_prev);
 }
 
 namespace {

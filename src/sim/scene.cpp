@@ -1,5 +1,7 @@
 #include "pb4u/sim/scene.h"
 
+#include <spdlog/spdlog.h>
+
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
@@ -205,6 +207,12 @@ SceneSetup build_scene(const SceneConfig& scene, const std::string& where) {
     for (int i : top_band_vertices(garment.mesh.V, scene.waistband.band)) s.pinned.push_back(i);
     std::sort(s.pinned.begin(), s.pinned.end());
     s.pinned.erase(std::unique(s.pinned.begin(), s.pinned.end()), s.pinned.end());
+  }
+  if (!s.pin_targets.empty()) {
+    const int through = hold_pins_free_of_body(s.garment.F, s.pinned, s.body, s.body_faces, &s.pin_targets, &s.x0, &s.x_prev);
+    if (through > 0)
+      spdlog::warn("{}: {} edges between pinned vertices still cut the body on a frame (pins are not moved further)",
+                   where, through);
   }
   return s;
 }

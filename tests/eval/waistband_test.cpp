@@ -6,6 +6,8 @@
 #include "pb4u/data/dataset.h"
 #include "pb4u/data/lbs_frame.h"
 #include "pb4u/eval/evaluate.h"
+#include "pb4u/mesh/edges.h"
+#include "pb4u/physics/barrier_potential.h"
 #include "pb4u/rollout/rollout.h"
 #include "pb4u/physics/reference_solver.h"
 #include "pb4u/scene/pins.h"
@@ -38,6 +40,18 @@ SkirtOnAWalk skirt_on_a_walk() {
   return s;
 }
 
+// `steps` frames of the walk from `start`, the skirt's top 2 cm pinned to the garment skinned
+// to each frame.
+RolloutInput pinned_skirt_rollout(const SkirtOnAWalk& s, int start, int steps) {
+  Effects effects;
+  effects.pins = true;
+  RolloutInput in = lbs_rollout_input(s.record->body, *s.skirt, s.motion->motion, start, steps, effects, Material{},
+                                      0.004);
+  in.pinned = top_band_vertices(s.skirt->mesh.V, 0.02);
+  in.pin_targets = skinned_pin_targets(s.record->body, *s.skirt, s.motion->motion, start, in.body, 0.004);
+  return in;
+}
+
 TEST(Waistband, HoldsTheListedGarmentsOnly) {
   WaistbandConfig w;
   EXPECT_TRUE(w.holds("skirt"));
@@ -47,17 +61,37 @@ TEST(Waistband, HoldsTheListedGarmentsOnly) {
   EXPECT_FALSE((WaistbandConfig{{}, 0.02}).holds("skirt"));
 }
 
+TEST(Waistband, PinsHeldFreeOfTheBodyStartWhereTheirFirstTargetsAre) {
+  const SkirtOnAWalk s = skirt_on_a_walk();
+  ASSERT_TRUE(s.skirt && s.motion);
+  RolloutInput in = pinned_skirt_rollout(s, 1, 4);
+  const RolloutInput skinned = in;
+  EXPECT_EQ(hold_pins_free_of_body(in), 0);
+  const Eigen::MatrixXi edges = unique_edges(s.skirt->mesh.F);
+  double most = 0;
+  for (size_t k = 0; k < in.pin_targets.size(); ++k) {
+    const ContactSurface body = make_contact_surface(in.body[k], in.body_faces);
+    std::vector<char> pinned(size_t(in.x0.rows()), 0);
+    for (int i : in.pinned) pinned[size_t(i)] = 1;
+    for (int e : cloth_edges_through_body(in.pin_targets[k], edges, body))
+      EXPECT_FALSE(pinned[size_t(edges(e, 0))] && pinned[size_t(edges(e, 1))]) << "frame " << k << ", edge " << e;
+    most = std::max(most, (in.pin_targets[k] - skinned.pin_targets[k]).rowwise().norm().maxCoeff());
+  }
+  // The skinned targets' chords cut this mannequin's waist: the pins did move, the start with them.
+  EXPECT_GT(most, 1e-3);
+  EXPECT_LT((in.pin_targets[0] - in.x0).norm(), 1e-12);
+  for (Eigen::Index i = 0; i < in.x0.rows(); ++i) {
+    const Eigen::RowVector3d moved = in.x0.row(i) - skinned.x0.row(i);
+    EXPECT_LT((in.x_prev.row(i) - skinned.x_prev.row(i) - moved).norm(), 1e-12) << i;
+  }
+}
+
 TEST(Waistband, PinnedVerticesRideOnTheSkinnedGarmentInARollout) {
   const SkirtOnAWalk s = skirt_on_a_walk();
   ASSERT_TRUE(s.skirt && s.motion);
   const int start = 1, steps = 4;
-  Effects effects;
-  effects.pins = true;
-  RolloutInput in = lbs_rollout_input(s.record->body, *s.skirt, s.motion->motion, start, steps, effects, Material{},
-                                      0.004);
-  in.pinned = top_band_vertices(s.skirt->mesh.V, 0.02);
+  RolloutInput in = pinned_skirt_rollout(s, start, steps);
   ASSERT_FALSE(in.pinned.empty());
-  in.pin_targets = skinned_pin_targets(s.record->body, *s.skirt, s.motion->motion, start, in.body, 0.004);
   ASSERT_EQ(in.pin_targets.size(), size_t(steps + 1));
   // The targets are the skinned, pushed-out garment of each frame: frame 0 is the start state.
   EXPECT_LT((in.pin_targets[0] - in.x0).norm(), 1e-12);

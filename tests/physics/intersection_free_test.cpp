@@ -182,6 +182,42 @@ TEST(IntersectionFreeStart, VerticesNotFreeAreThoseInsideThroughOrTouching) {
   EXPECT_EQ(caught, (std::vector<char>{1, 1, 1, 1, 1, 0, 0}));
 }
 
+TEST(IntersectionFreeStart, PinnedVerticesGoOutUntilNoEdgeBetweenThemCutsTheBody) {
+  // A hexagon of pins 4 mm outside a sphere's equator, joined to a free centre vertex: each
+  // chord's middle lies at 0.124 cos 30 = 0.107 m from the centre, 13 mm inside the sphere.
+  const double radius = 0.12, ring = radius + 0.004;
+  const TriMesh sphere = test::icosphere(radius, 4, Eigen::RowVector3d::Zero());
+  Eigen::MatrixXd x(7, 3);
+  x.row(0).setZero();
+  for (int k = 0; k < 6; ++k) x.row(k + 1) << ring * std::cos(k * M_PI / 3), 0, ring * std::sin(k * M_PI / 3);
+  Eigen::MatrixXi faces(6, 3);
+  for (int k = 0; k < 6; ++k) faces.row(k) << 0, 1 + k, 1 + (k + 1) % 6;
+  const Eigen::MatrixXi edges = unique_edges(faces);
+  const std::vector<int> pinned{1, 2, 3, 4, 5, 6};
+  const ContactSurface body = make_contact_surface(sphere.V, sphere.F);
+  Eigen::MatrixXi ring_edges(6, 2);
+  for (int k = 0; k < 6; ++k) ring_edges.row(k) << 1 + k, 1 + (k + 1) % 6;
+  ASSERT_EQ(cloth_edges_through_body(x, ring_edges, body).size(), 6u);
+
+  Eigen::MatrixXd held = x;
+  const double step = 1e-3;
+  EXPECT_EQ(push_pinned_edges_free_of_body(held, pinned, edges, sphere.V, sphere.F, step), 0);
+  EXPECT_TRUE(cloth_edges_through_body(held, ring_edges, body).empty());
+  EXPECT_EQ(held.row(0), x.row(0));  // not pinned: untouched (it is inside the sphere)
+  // Out along the body's normal (the icosphere's: within a few degrees of radial), as far as the
+  // chords need: the icosphere lies inside the sphere, so the true sphere's 0.1386 m is the most
+  // needed, and a round further (with the slant) at most.
+  for (int i : pinned) {
+    const Eigen::RowVector3d moved = held.row(i) - x.row(i);
+    EXPECT_GT(moved.dot(x.row(i).normalized()), 0.99 * moved.norm()) << i;
+    EXPECT_GT(held.row(i).norm(), ring + 0.005) << i;
+    EXPECT_LT(held.row(i).norm(), radius / std::cos(M_PI / 6) + 2 * step) << i;
+  }
+  // With too few rounds the edges still through are counted, not hidden.
+  Eigen::MatrixXd short_of = x;
+  EXPECT_EQ(push_pinned_edges_free_of_body(short_of, pinned, edges, sphere.V, sphere.F, step, 2), 6);
+}
+
 // One frame of the intersection-free solver; the state moves on.
 SolverResult barrier_step(FrameState& state, const ClothGeometry& cloth, const PhysicsConfig& config) {
   const TermList terms = build_terms(state.effects, config);

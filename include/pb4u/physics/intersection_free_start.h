@@ -32,6 +32,17 @@ struct FeasibleStart {
 std::vector<char> vertices_not_free_of(const Eigen::MatrixXd& x, const Eigen::MatrixXi& cloth_edges,
                                        const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, double d_hat);
 
+// Pinned vertices (rows `pinned` of x, n x 3) moved out of the body (V, outward faces F) until
+// no edge between two of them cuts through it. A waistband skinned a few millimetres outside a
+// waist is a polygon: its chords cut a curved waist (a 12 cm edge round a 12 cm waist radius
+// dips 15 mm), and a pin is a hard constraint no solver can move. Each round moves both ends of
+// every such edge still through the body `step` m further out, along the body's outward
+// direction at its closest point, for at most `max_rounds` rounds. In place; returns how many
+// edges are still through.
+int push_pinned_edges_free_of_body(Eigen::MatrixXd& x, const std::vector<int>& pinned, const Eigen::MatrixXi& edges,
+                                   const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, double step = 1e-3,
+                                   int max_rounds = 50);
+
 // x_t: cloth at t (n x 3); target: where the step would start without contact (n x 3);
 // body_t: the body at t (nb x 3) with outward faces body_faces; d_hat: the barrier's reach (m).
 FeasibleStart intersection_free_start(const Eigen::MatrixXd& x_t, const Eigen::MatrixXd& target,

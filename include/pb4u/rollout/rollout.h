@@ -64,6 +64,17 @@ std::vector<Eigen::MatrixXd> skinned_pin_targets(const Body& body, const Garment
                                                  int start, const std::vector<Eigen::MatrixXd>& posed_bodies,
                                                  double push_out_gap);
 
+// Pins held where no edge between two pinned vertices cuts the body, on every frame
+// (physics/intersection_free_start.h: push_pinned_edges_free_of_body): each frame's pin targets
+// (one per posed body frame, garment-sized), and the start state with them: x0's pinned rows
+// move as frame 0's targets did, and x_prev's as far, so the pins start at rest relative to the
+// body. Returns the most edges a frame still has through the body (0 when all cleared).
+int hold_pins_free_of_body(const Eigen::MatrixXi& garment_faces, const std::vector<int>& pinned,
+                           const std::vector<Eigen::MatrixXd>& body, const Eigen::MatrixXi& body_faces,
+                           std::vector<Eigen::MatrixXd>* pin_targets, Eigen::MatrixXd* x0, Eigen::MatrixXd* x_prev);
+// The same on a rollout's input (its garment, pins, body and start).
+int hold_pins_free_of_body(RolloutInput& in);
+
 // Advances one frame: float64 state in, float64 x_{t+1} (n, 3) out.
 using StepFunction = std::function<torch::Tensor(const FrameState& state, const ClothGeometry& cloth,
                                                  const TermList& terms, const BodyContact* contact)>;
