@@ -139,6 +139,7 @@ body:
 outputs:
   mesh_format: none
   preview: false
+  residual: false   # a solver step per frame on the CPU: not the network's time
 divergence:
   energy_ratio: 0   # a barely trained model: time 40 frames whatever its energy does
 EOF

@@ -52,6 +52,7 @@ SimulateResult simulate(const SceneConfig& scene, const std::string& scene_path,
   outputs.energies_csv = scene.outputs.energies_csv;
   const bool body_written = !setup.body.empty();
   RolloutInput in = scene_rollout_input(scene, setup);
+  in.measure_residual = scene.outputs.residual;
   outputs.fps = 1.0 / in.dt;
   RolloutWriter writer(out_dir, setup.garment.F, body_written ? setup.body_faces : Eigen::MatrixXi(), outputs);
 
@@ -150,6 +151,7 @@ SimulateResult simulate(const SceneConfig& scene, const std::string& scene_path,
     result.edges_through_frames = s.frames_with_edges_through;
   }
   for (double ms : r.step_ms) result.step_ms_mean += ms / r.step_ms.size();
+  result.residual_measured = in.measure_residual;
   for (const EnergyReport& report : r.reports) {
     result.residual_mm_mean += report.residual_mm / r.reports.size();
     result.residual_mm_max = std::max(result.residual_mm_max, report.residual_mm);

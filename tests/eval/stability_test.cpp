@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
+#include <cmath>
 #include <fstream>
 
 #include "pb4u/data/dataset.h"
@@ -222,6 +224,29 @@ TEST(Stability, SimulateWritesPenetrationColumnsWithABody) {
   }
   EXPECT_EQ(r.edges_through_max, through);  // the summary agrees with the rows
   EXPECT_EQ(r.edges_through_frames, frames_with);
+}
+
+TEST(Stability, TheResidualIsMeasuredEachFrameUnlessSwitchedOff) {
+  SceneConfig s = two_frames_on_the_tiny_body();
+  s.outputs.preview = false;
+  for (const bool on : {true, false}) {
+    s.outputs.residual = on;
+    const std::string out = test::temp_dir("sim_residual");
+    const SimulateResult r = simulate(s, "scene.yaml", &shipped(), out);
+    ASSERT_EQ(r.frames, 3);
+    EXPECT_EQ(r.residual_measured, on);
+    const auto rows = test::read_csv(out + "/energies.csv");
+    ASSERT_EQ(rows.size(), 4u);
+    const size_t column = size_t(std::find(rows[0].begin(), rows[0].end(), "residual_mm") - rows[0].begin());
+    ASSERT_LT(column, rows[0].size());
+    for (size_t f = 2; f < rows.size(); ++f) {
+      const double residual = std::stod(rows[f][column]);
+      if (on)
+        EXPECT_TRUE(std::isfinite(residual) && residual >= 0) << rows[f][column];
+      else
+        EXPECT_TRUE(std::isnan(residual)) << rows[f][column];
+    }
+  }
 }
 
 TEST(Stability, TheIntersectionFreeSolverReportsPerFrameTheClothItLeftOutOfContact) {

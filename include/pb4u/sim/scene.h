@@ -96,6 +96,9 @@ struct SceneOutputs {
   bool point_cache = true, hdf5 = true, energies_csv = true, plot = true;
   bool usd = true;      // scene.usda: garment and body with time-sampled points (io/usd_cache.h)
   bool preview = true;  // preview.png: a contact sheet of the garment (and body)
+  // Each frame's residual (energies.csv residual_mm): a Newton step of the solver from the
+  // frame's step, on the CPU. Off, the column is nan; large garments on a GPU save its time.
+  bool residual = true;
   template <class V>
   void visit(V& v) {
     v("mesh_format", mesh_format, one_of({"obj", "ply", "none"}));
@@ -105,6 +108,7 @@ struct SceneOutputs {
     v("hdf5", hdf5);
     v("energies_csv", energies_csv);
     v("plot", plot);
+    v("residual", residual);
   }
 };
 

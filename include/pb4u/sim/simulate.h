@@ -25,6 +25,7 @@ struct SimulateResult {
   int edges_through_max = 0, edges_through_frames = 0;  // cloth edges through the body: most on a frame, frames with any
   double step_ms_mean = 0;
   double residual_mm_mean = 0, residual_mm_max = 0;  // EnergyReport::residual_mm over the frames
+  bool residual_measured = true;                      // false with outputs.residual off
   // The intersection-free reference solver (solver.contact = barrier, with a body): frames that
   // left cloth out of barrier contact, and the most vertices one frame left out.
   bool barrier_contact = false;
