@@ -150,8 +150,12 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
       x_base = torch::where(pinned.unsqueeze(1), state.pin_targets.to(opts), x_base);
     }
   }
+  // The solver's own start, kept beside a given step: without barrier contact both are feasible,
+  // and the solve starts from whichever is lower in its objective (SolverResult::own_start).
+  torch::Tensor x_own;
   if (x_start) {  // a given step (the network's) instead of the ballistic prediction; pins as held
     if (x_start->sizes() != state.x.sizes()) throw Error("reference solver: the start step is not (n, 3)");
+    if (!barrier) x_own = x_base;
     x_base = torch::where(pinned.unsqueeze(1), x_base, x_start->to(opts));
   }
   x_base = x_base.detach();
@@ -177,6 +181,9 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
     const double inside = std::max(0.0, config.strain_limit - 0.5 * config.strain_barrier_gap);
     x_base = matrix_to_tensor(shorten_overstretched_edges(tensor_to_matrix(x_base), strain_edges, rest_length, inside, pinned_flags),
                               opts.dtype().toScalarType(), state.x.device());
+    if (x_own.defined())
+      x_own = matrix_to_tensor(shorten_overstretched_edges(tensor_to_matrix(x_own), strain_edges, rest_length, inside, pinned_flags),
+                               opts.dtype().toScalarType(), state.x.device());
   }
   if (barrier && config.initial_hessian != "elastic")
     throw Error("reference solver: solver.contact: barrier needs solver.initial_hessian: elastic");
@@ -454,6 +461,20 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
   torch::Tensor q = x_base.index_select(0, free).reshape({-1});
   torch::Tensor g;
   double E = evaluate(q, &g);
+  if (x_own.defined()) {  // a given step above the solver's own start is not the better start
+    torch::Tensor g_own;
+    const torch::Tensor q_own = x_own.index_select(0, free).reshape({-1});
+    const double E_own = evaluate(q_own, &g_own);
+    if (E_own < E || !std::isfinite(E)) {
+      spdlog::debug("reference solver: the given step ({:.6g} J) starts above the solver's own start ({:.6g} J): "
+                    "starting from its own",
+                    E, E_own);
+      q = q_own;
+      g = g_own;
+      E = E_own;
+      result.own_start = true;
+    }
+  }
   std::deque<Pair> history;
   double step_norm = 0;
   double last_slope = 0;  // g.d of the last direction

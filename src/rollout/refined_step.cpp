@@ -28,7 +28,7 @@ torch::Tensor refine_with(const torch::Tensor& x_step, const FrameState& state, 
   const std::optional<BarrierStepInput> barrier = barrier_step_input(state, cloth, config);
   const SolverResult r =
       solve_reference_step(state, cloth, terms, contact, config, barrier ? &*barrier : nullptr, &start);
-  if (log) *log = {r.excluded, r.caught_by_body, r.body_lag, r.excluded_vertices, r.barrier_stiffness};
+  if (log) *log = {r.excluded, r.caught_by_body, r.body_lag, r.excluded_vertices, r.barrier_stiffness, r.own_start};
   if (step_norm) *step_norm = r.step_norm;
   return r.x_next.to(torch::kFloat64);
 }
@@ -58,9 +58,12 @@ torch::Tensor refine_by(const RefiningSolvers& s, const torch::Tensor& x_step, c
   torch::Tensor x = x_step;
   double step_norm = std::numeric_limits<double>::infinity();
   if (s.fixed) x = refine_with(x, state, cloth, terms, contact, *s.fixed, log, &step_norm);
+  const bool own_start = log && log->own_start;
   // Past the fixed count, on to the tolerance unless the count already got there.
-  if (s.to_tolerance && !(step_norm <= s.tolerance_m))
+  if (s.to_tolerance && !(step_norm <= s.tolerance_m)) {
     x = refine_with(x, state, cloth, terms, contact, *s.to_tolerance, log);
+    if (log) log->own_start = log->own_start || own_start;
+  }
   return x;
 }
 }  // namespace

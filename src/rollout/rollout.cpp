@@ -282,6 +282,7 @@ RolloutResult run_rollout(const RolloutInput& in, const StepFunction& step,
     }
     result.reports.push_back(report);
     result.step_ms.push_back(step_ms);
+    if (in.step_log && in.step_log->own_start) ++result.own_start_frames;
     result.contact_ms.push_back(contact_ms);
     if (on_frame) on_frame(frame, x, report, penetration ? &*penetration : nullptr);
     const double positive = positive_energy(report);

@@ -672,6 +672,51 @@ TEST(RefinedStep, AnyIterationCountEndsFreeOfTheBodyAndMoreIterationsNeverRaiseT
   }
 }
 
+TEST(RefinedStep, WithoutContactAStepAboveTheSolversOwnStartIsReplacedByIt) {
+  // A cloth falling freely (no body): a "network" that throws one vertex 0.3 m off the
+  // ballistic step is far above the solver's own start in its objective; the converged step is
+  // below it.
+  TriMesh garment;
+  FrameState state = test::cloth_above_sphere(6, 0.3, 0.25, 0.005, 2, &garment);
+  state.effects.collision = state.effects.friction = false;
+  state.body = {};
+  const ClothGeometry cloth = make_cloth_geometry(garment, torch::kFloat64);
+  const PhysicsConfig config;
+  const TermList terms = build_terms(state.effects, config);
+  const torch::Tensor ballistic =
+      2 * state.x - state.x_prev +
+      torch::tensor({state.gravity[0], state.gravity[1], state.gravity[2]}, torch::kFloat64) * (state.dt * state.dt);
+  const StepFunction thrown = [](const FrameState& s, const ClothGeometry&, const TermList&, const BodyContact*) {
+    torch::Tensor x = (2 * s.x - s.x_prev).clone();
+    x[7][1] += 0.3;
+    return x;
+  };
+  const torch::Tensor converged = solve_reference_frame(state, cloth, terms, config).x_next;
+  const StepFunction at_the_minimum = [&](const FrameState&, const ClothGeometry&, const TermList&,
+                                          const BodyContact*) { return converged; };
+  auto potential = [&](const torch::Tensor& x) {
+    double e = 0;
+    for (const auto& term : terms) e += term->energy(x, state, cloth, nullptr).item<double>();
+    return e;
+  };
+  RefineConfig none;  // no iteration: the start itself comes out
+  none.iterations = 0;
+  auto log = std::make_shared<ContactStepLog>();
+  const torch::Tensor from_thrown = refined_stepper(thrown, config.solver, none, log)(state, cloth, terms, nullptr);
+  EXPECT_TRUE(log->own_start);
+  EXPECT_LT(potential(from_thrown), potential(thrown(state, cloth, terms, nullptr)));
+  // The own start: the ballistic prediction (no pins).
+  EXPECT_LT((from_thrown - ballistic).abs().max().item<double>(), 1e-12);
+  const torch::Tensor from_minimum = refined_stepper(at_the_minimum, config.solver, none, log)(state, cloth, terms, nullptr);
+  EXPECT_FALSE(log->own_start);
+  EXPECT_LT((from_minimum - converged).abs().max().item<double>(), 1e-12);
+  // With iterations, the refinement from the thrown step reaches the converged step's energy.
+  RefineConfig twenty;
+  twenty.iterations = 20;
+  const torch::Tensor refined = refined_stepper(thrown, config.solver, twenty, log)(state, cloth, terms, nullptr);
+  EXPECT_NEAR(potential(refined), potential(converged), 1e-6 * std::abs(potential(converged)) + 1e-9);
+}
+
 // A step that does not see the body: the cloth left where it was while a sphere rises 0.1 m
 // under it (3 m/s), so that at t + dt the cloth's middle is deep inside the sphere. Swept from
 // the cloth at t against the rising sphere (given_start swept), the sphere carries the cloth

@@ -47,6 +47,10 @@ struct SolverResult {
   double min_area_ratio = 1;
   int area_excluded = 0;
   bool swept_start = false;  // a given step's start was swept from the cloth at t (GivenStart)
+  // Without barrier contact (no body, or the penalty term): a given step starts the solve only
+  // where it is lower in the objective than the solver's own start (the ballistic prediction,
+  // pins at their targets); true where the own start was used.
+  bool own_start = false;
 };
 
 // The body of one step as intersection-free contact sees it: the body at t and t + dt, its

@@ -90,6 +90,9 @@ struct ContactStepLog {
   double body_lag = 0;
   std::vector<char> excluded_vertices;
   double barrier_stiffness = 0;
+  // A refinement without barrier contact that started from the solver's own start, the
+  // network's step being higher in the solver's objective (SolverResult::own_start).
+  bool own_start = false;
 };
 
 // The network's step: K from its calibration and the garment's Lbar, or `k_override` if >= 0.
@@ -121,6 +124,8 @@ struct RolloutResult {
   // Wall time (ms) per finite frame of the stepper and of the body contact query
   // (body_contact_for: KD-tree and closest points, which the physics terms and the solver use).
   std::vector<double> step_ms, contact_ms;
+  // Frames whose refinement started from the solver's own start (ContactStepLog::own_start).
+  int own_start_frames = 0;
 };
 
 // Called with frame index (1..steps), garment positions (n x 3 m), the frame's energies and,

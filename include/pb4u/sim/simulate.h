@@ -26,6 +26,7 @@ struct SimulateResult {
   double step_ms_mean = 0;
   double residual_mm_mean = 0, residual_mm_max = 0;  // EnergyReport::residual_mm over the frames
   bool residual_measured = true;                      // false with outputs.residual off
+  int own_start_frames = 0;  // refined frames started from the solver's own start (RolloutResult)
   // The intersection-free reference solver (solver.contact = barrier, with a body): frames that
   // left cloth out of barrier contact, and the most vertices one frame left out.
   bool barrier_contact = false;
