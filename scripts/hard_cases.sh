@@ -11,6 +11,8 @@
 #   scripts/hard_cases.sh --step newton ...           either of the above with the reference
 #                                                     solver's Newton step (physics.solver.step; the
 #                                                     refinement takes Newton steps by default)
+#   scripts/hard_cases.sh --solver KEY=VALUE[,...] ... physics.solver keys for the reference and
+#                                                     the refinement, e.g. given_start=fewer_left_out
 # Prints one "[hard] ..." line per figure and gtest's verdict; exits non-zero when a case fails.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -20,6 +22,11 @@ if [ "${1:-}" = "--step" ]; then
     quasi_newton|newton) export PB4U_HARD_SOLVER_STEP=$2 ;;
     *) echo "hard_cases.sh: --step: '${2:-}' is not quasi_newton or newton" >&2; exit 2 ;;
   esac
+  shift 2
+fi
+if [ "${1:-}" = "--solver" ]; then
+  [ -n "${2:-}" ] || { echo "hard_cases.sh: --solver needs KEY=VALUE[,KEY=VALUE...]" >&2; exit 2; }
+  export PB4U_HARD_SOLVER=$2
   shift 2
 fi
 if [ "${1:-}" = "--known-gaps" ]; then

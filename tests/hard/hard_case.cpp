@@ -7,7 +7,12 @@
 #include <cstdio>
 #include <cstdlib>
 #include <map>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
 
+#include "pb4u/config/config_io.h"
 #include "pb4u/mesh/edges.h"
 #include "pb4u/mesh/geometry.h"
 #include "pb4u/physics/barrier_potential.h"
@@ -245,6 +250,22 @@ PhysicsConfig reference_physics(const PhysicsConfig& physics, const RolloutInput
   if (!in.body.empty() && in.effects.collision) p.solver.contact = "barrier";
   // scripts/hard_cases.sh --step newton: the reference solver with Newton steps.
   if (const char* step = std::getenv("PB4U_HARD_SOLVER_STEP")) p.solver.step = step;
+  // scripts/hard_cases.sh --solver KEY=VALUE,...: physics.solver keys for the reference and the
+  // refinement, checked as a config file's are.
+  if (const char* sets = std::getenv("PB4U_HARD_SOLVER")) {
+    std::vector<std::string> list;
+    std::stringstream in(sets);
+    for (std::string set; std::getline(in, set, ',');)
+      if (!set.empty()) list.push_back(set);
+    YAML::Node root = YAML::Load(config_to_yaml(p.solver));
+    std::set<std::string> overridden;
+    apply_overrides(root, list, &overridden);
+    ReferenceSolverConfig solver;
+    ConfigReader reader(root, "PB4U_HARD_SOLVER", "", &overridden);
+    solver.visit(reader);
+    reader.finish();
+    p.solver = solver;
+  }
   return p;
 }
 
