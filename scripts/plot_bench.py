@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Figures of a `pb4u bench` run, from DIR/bench_details.csv:
-  loss_vs_k.png           physics loss vs K of the fixed-K Pb4U runs, one line per level (Figure 5);
+  loss_vs_k.png           positive energy vs K of the fixed-K Pb4U runs, one line per level (Figure 5);
                           the K that Pb4U picks by itself is starred
   loss_vs_latency.png     physics loss vs per-frame latency, one panel per level (the Pareto view)
   latency_vs_vertices.png latency vs vertex count, log-log, with each method's fitted exponent
@@ -45,23 +45,26 @@ def set_loss_scale(ax, values):
 
 
 def loss_vs_k(rows, levels, out):
+    # The positive energy (stretch + bending + collision), as in loss_vs_latency: the total is
+    # gravity's ~1 J a frame at every K.
+    y = "positive_loss"
     fig, ax = plt.subplots(figsize=(6.4, 4.2))
     values = []
     for level in levels:
-        pts = sorted((r["K"], r["physics_loss"]) for r in rows
-                     if r["level"] == level and r["family"] == "fixed_k" and finite(r["physics_loss"]))
+        pts = sorted((r["K"], r[y]) for r in rows
+                     if r["level"] == level and r["family"] == "fixed_k" and finite(r[y]))
         if not pts:
             continue
         line, = ax.plot([p[0] for p in pts], [p[1] for p in pts], "o-", ms=4, label=level_label(rows, level))
         values += [p[1] for p in pts]
         own = [r for r in rows if r["level"] == level and r["family"] == "network" and r["K"] > 0
-               and finite(r["physics_loss"])]
+               and finite(r[y])]
         if own:
-            ax.plot([own[0]["K"]], [own[0]["physics_loss"]], "*", ms=13, color=line.get_color(), mec="k")
+            ax.plot([own[0]["K"]], [own[0][y]], "*", ms=13, color=line.get_color(), mec="k")
     set_loss_scale(ax, values)
     ax.set_xlabel("propagation steps K")
-    ax.set_ylabel("physics loss per frame (J)")
-    ax.set_title("Physics loss vs K (star: K = floor(D / mean edge length))")
+    ax.set_ylabel("positive energy per frame (J)")
+    ax.set_title("Positive energy vs K (star: K = floor(D / mean edge length))")
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=8)
     fig.tight_layout()
