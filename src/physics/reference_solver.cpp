@@ -493,11 +493,19 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
     x_base = x_base.index_copy(0, pin_index, matrix_to_tensor(pin_now, opts.dtype().toScalarType(), state.x.device()));
   };
   // Where the cloth leaves the body no room (pinched between two body parts, or a body that
-  // intersects itself) the body is placed at its pose after kMaxBodyMoves tries, and the cloth
-  // it now cuts or holds leaves barrier contact for the penalty term (SolverResult::excluded).
+  // intersects itself) the body is placed at its pose after kMaxBodyMoves tries; the cloth it
+  // now cuts or holds (pushed out of it first as a start is, with solver.push_out_caught) leaves
+  // barrier contact for the penalty term (SolverResult::excluded).
   auto place_body = [&](double left) {
     body.V = barrier->body_next;
     move_pins(pin_target);
+    if (config.push_out_caught) {  // the cloth the placed body now cuts or holds pushed out of it first
+      const Eigen::MatrixXd X = positions(q);
+      FeasibleStart out = intersection_free_start(X, X, barrier->cloth_edges, body.V, body.F, barrier->settings.d_hat);
+      for (Eigen::Index i = 0; i < n; ++i)
+        if (!free_flags[size_t(i)]) out.x.row(i) = X.row(i);
+      q = free_coordinates(out.x, free, opts);
+    }
     const std::vector<char> caught =
         vertices_not_free_of(positions(q), barrier->cloth_edges, body.V, body.F, barrier->settings.d_hat);
     for (size_t i = 0; i < caught.size(); ++i)

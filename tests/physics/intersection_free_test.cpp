@@ -818,6 +818,47 @@ TEST(IntersectionFreeSolver, ClothPinchedByABodyClosingOnItselfIsReportedNotStuc
   EXPECT_LT(r.body_lag, 0.02 + 1e-12);
 }
 
+TEST(IntersectionFreeSolver, ClothTheBodyIsPlacedOnIsPushedOutOfItWhereThereIsRoom) {
+  // A sphere (r = 0.1 m) that moves 2 m in one step: its moves (5 cm each at most) cannot get
+  // it there, so it is placed at its pose, onto a 10 cm patch of cloth lying inside it there.
+  // Pushed out as a start is, none of the cloth is caught; left as it is, all of it is.
+  const double radius = 0.1;
+  TriMesh patch = test::grid_mesh(5, 0.1);
+  patch.V.col(0).array() += 2.0 - 0.05;
+  patch.V.col(2).array() -= 0.05;
+  patch.V.col(1).setConstant(0.05);
+  const ClothGeometry cloth = make_cloth_geometry(patch);
+  FrameState state = test::resting_state(test::positions_tensor(patch.V));
+  state.effects.gravity = state.effects.collision = true;
+  const TriMesh sphere = test::icosphere(radius, 3, Eigen::RowVector3d::Zero());
+  Eigen::MatrixXd next = sphere.V;
+  next.col(0).array() += 2.0;
+  state.body.vertices = test::positions_tensor(sphere.V);
+  state.body.next_vertices = test::positions_tensor(next);
+  state.body.faces = test::faces_tensor(sphere.F);
+  const Eigen::MatrixXi edges = unique_edges(patch.F);
+  for (const bool push : {true, false}) {
+    SCOPED_TRACE(push ? "pushed out" : "left");
+    PhysicsConfig config = barrier_config();
+    config.solver.push_out_caught = push;
+    // Without the penalty term, which measures the cloth against the body at its pose and would
+    // move the patch out of the sphere's way before it arrives.
+    config.solver.barrier_keeps_penalty = false;
+    const TermList terms = build_terms(state.effects, config);
+    const SolverResult r = solve_reference_frame(state, cloth, terms, config);
+    EXPECT_GT(r.body_lag, 0.5);  // placed, not reached
+    ASSERT_TRUE(torch::isfinite(r.x_next).all().item<bool>());
+    const Freedom f = freedom(tensor_to_matrix(r.x_next), edges, next, sphere.F);
+    if (push) {
+      EXPECT_EQ(r.caught_by_body, 0);
+      EXPECT_GT(f.min_distance, 0);
+      EXPECT_EQ(f.edges_through, 0);
+    } else {
+      EXPECT_EQ(r.caught_by_body, patch.V.rows());
+    }
+  }
+}
+
 TEST(StepResidual, AStepThatLeftClothOutIsMeasuredWithTheSolversOwnExclusions) {
   // The plates above close on the cloth: the solver leaves the caught vertices out of barrier
   // contact and converges on the rest. Measured with the vertices it left out, its step is at
