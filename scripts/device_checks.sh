@@ -16,7 +16,7 @@
 #
 #   scripts/device_checks.sh [--out DIR] [--budget SECONDS] [--jobs N] [--skip-build]
 #                            [--device D] [--triangles "N ..."] [--train-steps "QUICK PAPER"]
-#                            [--capacity-steps N]
+#                            [--capacity-steps N] [--capacity-sizes "NAME ..."] [--skip-timings]
 #
 #   --budget SECONDS  phases that would start with too little of it left are skipped (default 540)
 #   --skip-build      use an existing build-cuda/ (PB4U=path overrides the binary)
@@ -25,12 +25,16 @@
 #   --train-steps     training steps timed (default "300 100"); each config is also profiled
 #                     (`train --profile`) over a third of them
 #   --capacity-steps  steps of each capacity run (default 0: none)
+#   --capacity-sizes  which of quick, mid, paper (default all three)
+#   --skip-timings    no training speed, profile or Table 3 (phases 2-3): when the network's code
+#                     has not changed since their last figures, the budget goes to capacity
 # Needs device_bundle/debs (scripts/device_bundle.sh) and data/generated/quick/quick.h5 carried
 # along. Results: DIR/device_checks.txt and DIR/logs/ (configure, build, ctest logs).
 set -uo pipefail
 cd "$(dirname "$0")/.."
 root=$PWD
 out=${OUT:-runs/device} budget=540 jobs=$(nproc) build_step=1 device=cuda triangles="12000 25000 48000" steps="300 100" capacity_steps=0
+timings=1 capacity_names="quick mid paper"
 while [ $# -gt 0 ]; do
   case "$1" in
     --out) out=$2; shift ;;
@@ -41,11 +45,20 @@ while [ $# -gt 0 ]; do
     --triangles) triangles=$2; shift ;;
     --train-steps) steps=$2; shift ;;
     --capacity-steps) capacity_steps=$2; shift ;;
+    --capacity-sizes) capacity_names=$2; shift ;;
+    --skip-timings) timings=0 ;;
     -h|--help) awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next } NR > 1 { exit }' "$0"; exit 0 ;;
     *) echo "device_checks: unknown argument '$1' (see --help)" >&2; exit 2 ;;
   esac
   shift
 done
+capacity_sizes=()
+for size in "quick 64 4" "mid 96 8" "paper 128 15"; do
+  case " $capacity_names " in *" ${size%% *} "*) capacity_sizes+=("$size") ;; esac
+done
+if [ "$capacity_steps" -gt 0 ] && [ ${#capacity_sizes[@]} = 0 ]; then
+  echo "device_checks: --capacity-sizes '$capacity_names': none of quick, mid, paper" >&2; exit 2
+fi
 mkdir -p "$out/logs"
 report=$out/device_checks.txt
 say() { echo "device_checks: $*" | tee -a "$report"; }
@@ -94,7 +107,9 @@ train() {  # NAME CONFIG STEPS [--set ...]
   say "train $name: exit $rc, $(awk -v a="$t0" -v b="$t1" -v n="$steps" 'BEGIN { printf "%d steps in %.1f s: %.2f steps/s", n, b - a, n / (b - a) }') ($device, start-up included)"
   [ $rc = 0 ] || tail -n 5 "/tmp/device_train_$name.log" | tee -a "$report"
 }
-if [ "$(left)" -gt 120 ]; then
+if [ "$timings" = 0 ]; then
+  say "skipped training speed and Table 3 (--skip-timings)"
+elif [ "$(left)" -gt 120 ]; then
   read -r quick_steps paper_steps <<<"$steps"
   train quick configs/train/quick.yaml "$quick_steps"
   train paper configs/train/paper.yaml "$paper_steps"
@@ -116,7 +131,9 @@ model=/tmp/device_train_paper/final.pt
 step_sum() {  # LOG -> frames x mean step ms, from the summary "N frames: ... X ms per frame"
   sed -nE 's/.* ([0-9]+) frames: .* ([0-9.]+) ms per frame.*/\1 \2/p' "$1" | tail -n1 | awk '{ printf "%.3f", $1 * $2 }'
 }
-if [ -f "$model" ]; then
+if [ "$timings" = 0 ]; then
+  :
+elif [ -f "$model" ]; then
   say "Table 3, paper-size model, t-shirt on the quick dataset's walking CMU body, simulate --device $device"
   say "| triangles (asked) | vertices | network step ms/frame (frames 11-40) | wall ms/frame (40 minus 10 frames) | positive energy mean J (40 frames) |"
   need=90  # seconds a size must have left: 90 for the first, then twice the last size's time
@@ -162,8 +179,8 @@ else
   say "skipped Table 3: no paper-size model ($model)"
 fi
 # 4. Capacity runs on the device (started here, collected after the suite).
-capacity_sizes=("quick 64 4" "mid 96 8" "paper 128 15")
 if [ "$capacity_steps" -gt 0 ]; then
+  rm -f /tmp/capacity_*.done
   for size in "${capacity_sizes[@]}"; do
     read -r name latent blocks <<<"$size"
     rm -rf "/tmp/capacity_$name" "/tmp/capacity_$name.done"
@@ -174,7 +191,7 @@ if [ "$capacity_steps" -gt 0 ]; then
         --set model.latent="$latent" --set model.num_blocks="$blocks" >"/tmp/capacity_$name.log" 2>&1
       echo "$? $(awk -v a="$t0" -v b="$(now)" 'BEGIN { printf "%.1f", b - a }')" >"/tmp/capacity_$name.done" ) &
   done
-  say "capacity: quick.yaml's recipe, $capacity_steps steps each, sizes ${capacity_sizes[*]}, three at once on $device"
+  say "capacity: quick.yaml's recipe, $capacity_steps steps each, sizes ${capacity_sizes[*]}, at once on $device"
 fi
 
 # 5. The whole suite but the cuda label, in what is left.
@@ -187,7 +204,7 @@ fi
 
 # The capacity runs: wait while time is left, then export what each run reached.
 if [ "$capacity_steps" -gt 0 ]; then
-  while [ "$(left)" -gt 25 ] && [ "$(ls /tmp/capacity_*.done 2>/dev/null | wc -l)" -lt 3 ]; do sleep 2; done
+  while [ "$(left)" -gt 25 ] && [ "$(ls /tmp/capacity_*.done 2>/dev/null | wc -l)" -lt ${#capacity_sizes[@]} ]; do sleep 2; done
   pkill -f "/tmp/capacity_" 2>/dev/null
   for size in "${capacity_sizes[@]}"; do
     read -r name latent blocks <<<"$size"
