@@ -145,7 +145,7 @@ struct ReferenceSolverConfig {
   // cloth it then cuts or holds is first pushed out of it as a start is (intersection_free_start:
   // out of the body, edges through it pushed further), and only what that leaves is caught
   // (left out of barrier contact for the penalty term); false (the default) = all of it is
-  // caught. On the hard cases' spin it cuts the caught cloth from 42-68 to 2-9 vertices a frame
+  // caught. On the hard cases' spin it cuts the caught cloth from 10-68 to 2-9 vertices a frame
   // and the most edges through the body from 95 to 29; on the demo walk's first 150 frames it
   // catches 221 vertices instead of 996 but reads 12% more energy (a frame 2.5x), with the same
   // share inside (docs/physics.md).
