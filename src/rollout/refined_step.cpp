@@ -2,6 +2,7 @@
 
 #include <limits>
 #include <optional>
+#include <utility>
 
 #include "pb4u/physics/reference_solver.h"
 
@@ -26,8 +27,16 @@ torch::Tensor refine_with(const torch::Tensor& x_step, const FrameState& state, 
                           ContactStepLog* log, double* step_norm = nullptr) {
   const torch::Tensor start = x_step.to(torch::kFloat64);
   const std::optional<BarrierStepInput> barrier = barrier_step_input(state, cloth, config);
-  const SolverResult r =
-      solve_reference_step(state, cloth, terms, contact, config, barrier ? &*barrier : nullptr, &start);
+  SolverResult r = solve_reference_step(state, cloth, terms, contact, config, barrier ? &*barrier : nullptr, &start);
+  // fewer_left_out: where the swept start's body, moving from t, was held up and caught cloth,
+  // the step where it stands is solved too, and the solve that left fewer vertices out is kept.
+  using GivenStart = BarrierStepInput::GivenStart;
+  if (barrier && barrier->given_start == GivenStart::fewer_left_out && r.swept_start && r.caught_by_body > 0) {
+    BarrierStepInput at_step = *barrier;
+    at_step.given_start = GivenStart::at_step;
+    SolverResult other = solve_reference_step(state, cloth, terms, contact, config, &at_step, &start);
+    if (other.excluded <= r.excluded) r = std::move(other);
+  }
   if (log) *log = {r.excluded, r.caught_by_body, r.body_lag, r.excluded_vertices, r.barrier_stiffness, r.own_start};
   if (step_norm) *step_norm = r.step_norm;
   return r.x_next.to(torch::kFloat64);
