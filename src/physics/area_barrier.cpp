@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 
+#include "pb4u/mesh/geometry.h"
 #include "pb4u/physics/barrier.h"
 
 namespace pb4u {
@@ -135,11 +136,9 @@ double max_area_step(const Eigen::MatrixXd& x, const Eigen::MatrixXd& dx, const 
 
 std::vector<char> faces_below_area(const Eigen::MatrixXd& x, const Eigen::MatrixXi& faces,
                                    const Eigen::VectorXd& rest_area, double ratio) {
+  const Eigen::VectorXd A = face_areas(x, faces);
   std::vector<char> below(size_t(faces.rows()), 0);
-  for (Eigen::Index f = 0; f < faces.rows(); ++f) {
-    const double A = triangle_area(vertex(x, faces(f, 0)), vertex(x, faces(f, 1)), vertex(x, faces(f, 2)));
-    below[size_t(f)] = !(rest_area(f) > 0) || A <= ratio * rest_area(f);
-  }
+  for (Eigen::Index f = 0; f < faces.rows(); ++f) below[size_t(f)] = !(rest_area(f) > 0) || A(f) <= ratio * rest_area(f);
   return below;
 }
 
