@@ -54,7 +54,7 @@ BenchRow run_one(const Run& run, const RolloutInput& body_input, const RolloutIn
   row.iterations = run.iterations;
   const bool refined = run.family == "refined" || run.family == "refined_tolerance";
   if (run.model) {
-    step = network_stepper(*run.model, topology, run.k_override, step_log);
+    step = network_stepper(*run.model, topology, run.k_override, step_log, physics.solver);
     if (refined) {
       RefineConfig refine;
       refine.iterations = run.iterations;

@@ -109,13 +109,13 @@ StepFunction network_with_passes(const ModelFile& model, const GarmentTopology& 
 }  // namespace
 
 StepFunction network_stepper(const ModelFile& model, const GarmentTopology& topology, int64_t k_override,
-                             std::shared_ptr<ContactStepLog> log) {
+                             std::shared_ptr<ContactStepLog> log, const ReferenceSolverConfig& base) {
   StepFunction step = network_with_passes(model, topology, k_override);
   if (!model.config.refines()) return step;
   RefineConfig refine;
   refine.iterations = model.config.refine_iterations;
   refine.tolerance_mm = model.config.refine_tolerance_mm;
-  ReferenceSolverConfig solver;
+  ReferenceSolverConfig solver = base;  // as physics_measured_for measures it
   solver.contact = model.config.refine_contact;
   solver.strain_limit = model.config.refine_strain_limit;
   return refined_stepper(step, solver, refine, std::move(log));

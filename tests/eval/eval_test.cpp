@@ -392,15 +392,17 @@ TEST(Simulate, RefineRunsTheSolverFromTheNetworksStepAndNeedsTheNetwork) {
               1e-9 + 1e-6 * std::stod(refined[2][residual]));
   // The refinement's settings as switches of the file give the frames the scene's keys give:
   // exported with `switches`, simulated against the tiny checkpoint with `scene_flags`.
+  // `both`: scene keys given to both runs.
   auto file_matches_scene = [&](const std::string& name, const std::string& switches, const std::string& scene_flags,
-                                const std::string& method) {
+                                const std::string& method, const std::string& both = "") {
     const std::string file = out + "/" + name + ".h5";
     EXPECT_EQ(test::run_pb4u("-q export --checkpoint " + tiny_checkpoint() + " " + switches + " --out " + file).exit_code, 0);
     EXPECT_EQ(method_name(load_model_file(file).config), method);
-    auto run = test::run_pb4u("-q simulate --checkpoint " + file + " --scene " + scene + " --out " + out + "/" + name + "_file");
+    auto run = test::run_pb4u("-q simulate --checkpoint " + file + " --scene " + scene + " " + both + " --out " + out +
+                              "/" + name + "_file");
     EXPECT_EQ(run.exit_code, 0) << run.err;
     run = test::run_pb4u("-q simulate --checkpoint " + tiny_checkpoint() + " --scene " + scene + " " + scene_flags +
-                         " --out " + out + "/" + name + "_scene");
+                         " " + both + " --out " + out + "/" + name + "_scene");
     EXPECT_EQ(run.exit_code, 0) << run.err;
     const auto from_file = read_csv(out + "/" + name + "_file/energies.csv");
     const auto from_scene = read_csv(out + "/" + name + "_scene/energies.csv");
@@ -417,6 +419,14 @@ TEST(Simulate, RefineRunsTheSolverFromTheNetworksStepAndNeedsTheNetwork) {
   // The limit moved the refined cloth: the untrained network stretches the hanging cloth past 5%.
   ASSERT_GT(limited_file.size(), 3u);
   EXPECT_NE(limited_file[3], read_csv(out + "/refined/energies.csv")[3]);
+  // The scene's other solver keys reach the file's refinement as they reach the scene's: a wider
+  // strain barrier band gives both the same frames, and frames other than the default band's.
+  const auto wide_band = file_matches_scene(
+      "wide_band", "--set refine_iterations=20 --set refine_contact=barrier --set refine_strain_limit=0.05",
+      "--refine 20 --set physics.solver.contact=barrier --set physics.solver.strain_limit=0.05",
+      "Pb4U + 20 it (barrier, strain barrier)", "--set physics.solver.strain_barrier_gap=0.03");
+  ASSERT_EQ(wide_band.size(), limited_file.size());
+  EXPECT_NE(wide_band[3], limited_file[3]);
   // Refined to a tolerance.
   const auto tol_file =
       file_matches_scene("tolerance", "--set refine_tolerance_mm=0.5 --set refine_contact=barrier",

@@ -96,10 +96,12 @@ struct ContactStepLog {
 };
 
 // The network's step: K from its calibration and the garment's Lbar, or `k_override` if >= 0.
-// With the file's own refinement (refine_iterations, refine_tolerance_mm), `log`, when given,
-// is overwritten by each refining solve.
+// With the file's own refinement (refine_iterations, refine_tolerance_mm), the refining solver
+// is `solver` (the scene's or config's physics.solver) with the file's refine_contact and
+// refine_strain_limit, and `log`, when given, is overwritten by each refining solve.
 StepFunction network_stepper(const ModelFile& model, const GarmentTopology& topology, int64_t k_override = -1,
-                             std::shared_ptr<ContactStepLog> log = nullptr);
+                             std::shared_ptr<ContactStepLog> log = nullptr,
+                             const ReferenceSolverConfig& solver = ReferenceSolverConfig());
 
 // The physics a rollout of `model` (null: the solver) is measured with: `physics`, but where the
 // model file refines its own steps (ModelConfig::refines()) and `refined_by_config` does not
