@@ -25,7 +25,7 @@ void add_evaluate_command(CLI::App& app, const GlobalOptions& global) {
   struct Args {
     std::string device = "cpu";
     std::vector<std::string> checkpoints, names, methods, sets;
-    std::string config, format = "table", preview;
+    std::string config, format = "table", preview, frames_dir;
     int refine = -1;
     double refine_tolerance = -1;
   };
@@ -50,11 +50,16 @@ void add_evaluate_command(CLI::App& app, const GlobalOptions& global) {
   cmd->add_option("--format", args->format, "table | csv | json")->check(CLI::IsMember({"table", "csv", "json"}));
   cmd->add_option("--preview", args->preview,
                   "Write a contact sheet (PNG) of the first network's worst sequence (largest mean positive energy)");
+  cmd->add_option("--frames-dir", args->frames_dir,
+                  "Write every rollout's frames as CSV (energy terms, positive energy, residual, penetration) to "
+                  "DIR/lv<level>/<method>/<garment>_<motion>_<body>.csv, replacing files of those names "
+                  "(config key frames_dir)");
   cmd->add_option("--device", args->device, "Where the network runs: cpu | cuda | cuda:N (metrics stay on the CPU)");
   cmd->callback([args, &global] {
     apply_global_options(global);
     std::vector<std::string> sets = args->sets;
     if (!args->preview.empty()) sets.push_back("preview=" + args->preview);
+    if (!args->frames_dir.empty()) sets.push_back("frames_dir=" + args->frames_dir);
     if (args->refine >= 0) sets.push_back("refine.iterations=" + std::to_string(args->refine));
     if (args->refine_tolerance >= 0) sets.push_back(fmt::format("refine.tolerance_mm={}", args->refine_tolerance));
     const EvalConfig config = load_config<EvalConfig>(args->config, sets);

@@ -13,9 +13,11 @@
 #include <sstream>
 
 #include "pb4u/data/dataset.h"
+#include "pb4u/eval/frames_csv.h"
 #include "pb4u/rollout/rollout.h"
 #include "pb4u/scene/pins.h"
 #include "pb4u/io/preview.h"
+#include "pb4u/util/atomic_file.h"
 #include "pb4u/util/error.h"
 #include "pb4u/util/number_format.h"
 #include "pb4u/util/progress.h"
@@ -203,6 +205,7 @@ std::vector<LevelResult> evaluate(const EvalConfig& config, const std::vector<Ev
   if (methods.empty()) throw Error("evaluate: no method to evaluate (give --checkpoint or --method reference)");
   const Effects effects = Effects::from_names(config.effects, "effects");
   if (config.levels.empty()) throw Error("levels: no level to evaluate");
+  if (!config.frames_dir.empty()) ensure_output_dir(config.frames_dir);  // fails before the rollouts
   if (effects.pins && config.pins.top_band <= 0)
     throw Error("pins.top_band: effect 'pins' is on but no vertex is pinned (set pins.top_band, m)");
   if (!effects.needs_body() && config.max_frames <= 0)
@@ -278,6 +281,10 @@ std::vector<LevelResult> evaluate(const EvalConfig& config, const std::vector<Ev
                                                                             const PenetrationFigures*) { frames.push_back(x); })
                                                   : FrameCallback());
         SequenceResult q = sequence_result(s, r);
+        if (!config.frames_dir.empty())
+          write_frames_csv(config.frames_dir + "/lv" + std::to_string(level) + "/" + file_name_from(method.name) + "/" +
+                               file_name_from(q.garment + "_" + q.motion + "_" + q.body) + ".csv",
+                           r);
         if (keep_frames && std::isfinite(q.positive_energy) && q.positive_energy > worst.positive) {
           worst.positive = q.positive_energy;
           char title[256];

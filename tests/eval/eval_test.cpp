@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -13,6 +14,7 @@
 
 #include "pb4u/data/dataset.h"
 #include "pb4u/eval/evaluate.h"
+#include "pb4u/eval/frames_csv.h"
 #include "pb4u/model/model_file.h"
 #include "pb4u/rollout/rollout.h"
 #include "pb4u/io/module_hdf5.h"
@@ -238,6 +240,52 @@ TEST(Evaluate, JsonHasEveryActiveTermPerLevelAndMethod) {
       }
   }
   EXPECT_EQ(rows, 7) << r.out;
+}
+
+// --frames-dir: one CSV per rollout whose frames average to the sequence's summary.
+TEST(Evaluate, FramesDirHoldsEveryFrameOfEveryRollout) {
+  EXPECT_EQ(file_name_from("Pb4U + 10 it + to 1 mm (barrier)"), "Pb4U_10_it_to_1_mm_barrier");
+  EXPECT_EQ(file_name_from("tshirt_cmu_131_02_cmu131"), "tshirt_cmu_131_02_cmu131");
+  const std::string dir = test::temp_dir("eval_frames");
+  auto r = test::run_pb4u("-q evaluate --checkpoint " + tiny_checkpoint() + " --config " + kSource +
+                          "/configs/eval/tiny.yaml --set dataset=" + test::tiny_dataset() +
+                          " --set levels=[1] --format json --frames-dir " + dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto methods = nlohmann::json::parse(r.out).at("levels")[0].at("methods");
+  ASSERT_EQ(methods.size(), 1u);
+  const std::string method = methods.begin().key();
+  int files = 0;
+  for (const auto& q : methods.begin().value().at("sequences")) {
+    const std::string path = dir + "/lv1/" + file_name_from(method) + "/" +
+                             file_name_from(q.at("garment").get<std::string>() + "_" + q.at("motion").get<std::string>() +
+                                            "_" + q.at("body").get<std::string>()) + ".csv";
+    ASSERT_TRUE(fs::exists(path)) << path;
+    ++files;
+    const auto rows = read_csv(path);
+    ASSERT_EQ(int(rows.size()) - 1, q.at("frames").get<int>()) << path;
+    const auto& head = rows[0];
+    auto column = [&](const std::string& name) {
+      const size_t c = std::find(head.begin(), head.end(), name) - head.begin();
+      EXPECT_LT(c, head.size()) << name;
+      return c;
+    };
+    const size_t positive = column("positive"), stretch = column("stretch"), inside = column("penetrating_fraction");
+    double sum_positive = 0, sum_stretch = 0, largest = 0;
+    for (size_t f = 1; f < rows.size(); ++f) {
+      EXPECT_EQ(rows[f][0], std::to_string(f));
+      sum_positive += std::stod(rows[f][positive]);
+      sum_stretch += std::stod(rows[f][stretch]);
+      largest = std::max(largest, std::stod(rows[f][positive]));
+      EXPECT_GE(std::stod(rows[f][inside]), 0.0);
+    }
+    const double n = double(rows.size() - 1);
+    const double mean = q.at("positive_energy").get<double>();
+    // The JSON prints 9 significant digits; the CSV every digit.
+    EXPECT_NEAR(sum_positive / n, mean, 1e-8 * std::abs(mean) + 1e-15) << path;
+    EXPECT_NEAR(sum_stretch / n, q.at("stretch").get<double>(), 1e-8 * std::abs(mean) + 1e-15) << path;
+    EXPECT_NEAR(largest, q.at("max_positive_energy").get<double>(), 1e-8 * largest) << path;
+  }
+  EXPECT_GT(files, 0);
 }
 
 TEST(Evaluate, WithoutGravityTheTermIsAbsent) {

@@ -57,6 +57,9 @@ struct EvalConfig {
   // When set, a PNG contact sheet (sim/preview.h) of the first network method's worst
   // sequence: the one with the largest mean positive energy over every level.
   std::string preview;
+  // When set, every rollout's frames as CSV (eval/frames_csv.h):
+  // <frames_dir>/lv<level>/<method>/<garment>_<motion>_<body>.csv.
+  std::string frames_dir;
 
   template <class V>
   void visit(V& v) {
@@ -78,6 +81,7 @@ struct EvalConfig {
     v("refine", refine);
     v("passes", passes);
     v("preview", preview);
+    v("frames_dir", frames_dir);
   }
 };
 

@@ -1,0 +1,21 @@
+#pragma once
+// Every frame of one evaluated rollout as CSV (`evaluate --frames-dir`): the figures a scene's
+// energies.csv has, for the sequences evaluate rolls out, whose summaries keep only means and
+// largest frames.
+#include <string>
+
+#include "pb4u/rollout/rollout.h"
+
+namespace pb4u {
+
+// One row per measured frame (1..): each energy term (J), total, positive (stretch + bending +
+// collision), residual_mm (nan where not measured) and, when the rollout had a body,
+// penetrating_fraction, max_penetration_mm and edges_through_body. Written atomically, the
+// folders made; throws pb4u::Error naming the file when it cannot be written.
+void write_frames_csv(const std::string& path, const RolloutResult& r);
+
+// A file name from free text (a method's name): letters, digits, '.' and '-' kept, every other
+// run of characters one '_', none at either end.
+std::string file_name_from(const std::string& text);
+
+}  // namespace pb4u

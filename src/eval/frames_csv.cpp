@@ -1,0 +1,56 @@
+#include "pb4u/eval/frames_csv.h"
+
+#include <cctype>
+#include <filesystem>
+#include <iomanip>
+#include <limits>
+
+#include "pb4u/physics/energy_report.h"
+#include "pb4u/util/atomic_file.h"
+
+namespace pb4u {
+
+void write_frames_csv(const std::string& path, const RolloutResult& r) {
+  const std::filesystem::path parent = std::filesystem::path(path).parent_path();
+  if (!parent.empty()) ensure_output_dir(parent.string());
+  AtomicFile file(path);
+  std::ostream& out = file.stream();
+  out << std::setprecision(std::numeric_limits<double>::max_digits10);
+  const bool body = !r.penetration.empty();
+  out << "frame";
+  if (!r.reports.empty())
+    for (const auto& [name, value] : r.reports.front().terms) out << ',' << name;
+  out << ",total,positive,residual_mm";
+  if (body) out << ",penetrating_fraction,max_penetration_mm,edges_through_body";
+  out << '\n';
+  for (size_t f = 0; f < r.reports.size(); ++f) {
+    const EnergyReport& e = r.reports[f];
+    out << f + 1;
+    for (const auto& [name, value] : e.terms) out << ',' << value;
+    out << ',' << e.total << ',' << positive_energy(e) << ',' << e.residual_mm;
+    if (body) {
+      const PenetrationFigures& p = r.penetration[f];
+      out << ',' << p.penetrating_fraction << ',' << p.max_penetration_mm << ',' << p.edges_through;
+    }
+    out << '\n';
+  }
+  file.commit();
+}
+
+std::string file_name_from(const std::string& text) {
+  std::string name;
+  bool gap = false;
+  for (char c : text) {
+    const bool keep = std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '-';
+    if (!keep) {
+      gap = true;
+      continue;
+    }
+    if (gap && !name.empty()) name += '_';
+    gap = false;
+    name += c;
+  }
+  return name;
+}
+
+}  // namespace pb4u
