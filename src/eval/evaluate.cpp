@@ -275,16 +275,27 @@ std::vector<LevelResult> evaluate(const EvalConfig& config, const std::vector<Ev
         const bool keep_frames = !config.preview.empty() && &method == previewed;
         std::vector<Eigen::MatrixXd> frames;
         if (keep_frames) frames.push_back(in.x0);
-        RolloutResult r = run_rollout(in, step,
-                                      physics_measured_for(physics, method.model, config.refine.enabled()),
-                                      keep_frames ? FrameCallback([&frames](int, const Eigen::MatrixXd& x, const EnergyReport&,
-                                                                            const PenetrationFigures*) { frames.push_back(x); })
-                                                  : FrameCallback());
+        // With --frames-dir, the barrier solve's account of each frame (as a scene's energies.csv).
+        const std::string solve_contact = !method.model                      ? physics.solver.contact
+                                          : config.refine.enabled()          ? config.physics.solver.contact
+                                          : method.model->config.refines() ? method.model->config.refine_contact
+                                                                           : std::string();
+        const bool keep_logs = !config.frames_dir.empty() && solve_contact == "barrier" && in.effects.collision &&
+                               !in.body.empty();
+        std::vector<ContactStepLog> logs;
+        FrameCallback on_frame;
+        if (keep_frames || keep_logs)
+          on_frame = [&](int, const Eigen::MatrixXd& x, const EnergyReport&, const PenetrationFigures*) {
+            if (keep_frames) frames.push_back(x);
+            if (keep_logs) logs.push_back(*step_log);
+          };
+        RolloutResult r = run_rollout(in, step, physics_measured_for(physics, method.model, config.refine.enabled()),
+                                      on_frame);
         SequenceResult q = sequence_result(s, r);
         if (!config.frames_dir.empty())
           write_frames_csv(config.frames_dir + "/lv" + std::to_string(level) + "/" + file_name_from(method.name) + "/" +
                                file_name_from(q.garment + "_" + q.motion + "_" + q.body) + ".csv",
-                           r);
+                           r, keep_logs ? &logs : nullptr);
         if (keep_frames && std::isfinite(q.positive_energy) && q.positive_energy > worst.positive) {
           worst.positive = q.positive_energy;
           char title[256];

@@ -7,10 +7,14 @@
 
 #include "pb4u/physics/energy_report.h"
 #include "pb4u/util/atomic_file.h"
+#include "pb4u/util/error.h"
 
 namespace pb4u {
 
-void write_frames_csv(const std::string& path, const RolloutResult& r) {
+void write_frames_csv(const std::string& path, const RolloutResult& r, const std::vector<ContactStepLog>* contact) {
+  if (contact && contact->size() != r.reports.size())
+    throw Error(path + ": " + std::to_string(contact->size()) + " contact logs for " +
+                std::to_string(r.reports.size()) + " frames");
   const std::filesystem::path parent = std::filesystem::path(path).parent_path();
   if (!parent.empty()) ensure_output_dir(parent.string());
   AtomicFile file(path);
@@ -22,6 +26,7 @@ void write_frames_csv(const std::string& path, const RolloutResult& r) {
     for (const auto& [name, value] : r.reports.front().terms) out << ',' << name;
   out << ",total,positive,residual_mm";
   if (body) out << ",penetrating_fraction,max_penetration_mm,edges_through_body";
+  if (contact) out << ",contact_excluded,caught_by_body,body_lag_mm";
   out << '\n';
   for (size_t f = 0; f < r.reports.size(); ++f) {
     const EnergyReport& e = r.reports[f];
@@ -31,6 +36,10 @@ void write_frames_csv(const std::string& path, const RolloutResult& r) {
     if (body) {
       const PenetrationFigures& p = r.penetration[f];
       out << ',' << p.penetrating_fraction << ',' << p.max_penetration_mm << ',' << p.edges_through;
+    }
+    if (contact) {
+      const ContactStepLog& c = (*contact)[f];
+      out << ',' << c.excluded << ',' << c.caught_by_body << ',' << 1e3 * c.body_lag;
     }
     out << '\n';
   }

@@ -284,8 +284,28 @@ TEST(Evaluate, FramesDirHoldsEveryFrameOfEveryRollout) {
     EXPECT_NEAR(sum_positive / n, mean, 1e-8 * std::abs(mean) + 1e-15) << path;
     EXPECT_NEAR(sum_stretch / n, q.at("stretch").get<double>(), 1e-8 * std::abs(mean) + 1e-15) << path;
     EXPECT_NEAR(largest, q.at("max_positive_energy").get<double>(), 1e-8 * largest) << path;
+    // The network's own step: no solve, no contact account.
+    EXPECT_EQ(std::find(head.begin(), head.end(), "contact_excluded"), head.end());
   }
   EXPECT_GT(files, 0);
+  // Refined with barrier contact (the solver's default), each frame also has the solve's account.
+  r = test::run_pb4u("-q evaluate --checkpoint " + tiny_checkpoint() + " --config " + kSource +
+                     "/configs/eval/tiny.yaml --set dataset=" + test::tiny_dataset() +
+                     " --set levels=[1] --set max_sequences=1 --set max_frames=3 --refine 2 --format json --frames-dir " +
+                     dir + "/refined");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto refined = nlohmann::json::parse(r.out).at("levels")[0].at("methods");
+  const auto& q = refined.begin().value().at("sequences")[0];
+  const auto rows = read_csv(dir + "/refined/lv1/" + file_name_from(refined.begin().key()) + "/" +
+                             file_name_from(q.at("garment").get<std::string>() + "_" +
+                                            q.at("motion").get<std::string>() + "_" + q.at("body").get<std::string>()) +
+                             ".csv");
+  ASSERT_EQ(rows.size(), 4u);
+  for (const char* name : {"contact_excluded", "caught_by_body", "body_lag_mm"}) {
+    const size_t c = std::find(rows[0].begin(), rows[0].end(), name) - rows[0].begin();
+    ASSERT_LT(c, rows[0].size()) << name;
+    for (size_t f = 1; f < rows.size(); ++f) EXPECT_GE(std::stod(rows[f][c]), 0.0) << name;
+  }
 }
 
 TEST(Evaluate, WithoutGravityTheTermIsAbsent) {

@@ -3,6 +3,7 @@
 // energies.csv has, for the sequences evaluate rolls out, whose summaries keep only means and
 // largest frames.
 #include <string>
+#include <vector>
 
 #include "pb4u/rollout/rollout.h"
 
@@ -10,9 +11,12 @@ namespace pb4u {
 
 // One row per measured frame (1..): each energy term (J), total, positive (stretch + bending +
 // collision), residual_mm (nan where not measured) and, when the rollout had a body,
-// penetrating_fraction, max_penetration_mm and edges_through_body. Written atomically, the
-// folders made; throws pb4u::Error naming the file when it cannot be written.
-void write_frames_csv(const std::string& path, const RolloutResult& r);
+// penetrating_fraction, max_penetration_mm and edges_through_body; with `contact` (one per
+// frame, the barrier solve's account), also contact_excluded, caught_by_body and body_lag_mm,
+// as a scene's energies.csv has them. Written atomically, the folders made; throws pb4u::Error
+// naming the file when it cannot be written.
+void write_frames_csv(const std::string& path, const RolloutResult& r,
+                      const std::vector<ContactStepLog>* contact = nullptr);
 
 // A file name from free text (a method's name): letters, digits, '.' and '-' kept, every other
 // run of characters one '_', none at either end.
