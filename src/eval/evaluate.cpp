@@ -275,13 +275,12 @@ std::vector<LevelResult> evaluate(const EvalConfig& config, const std::vector<Ev
         const bool keep_frames = !config.preview.empty() && &method == previewed;
         std::vector<Eigen::MatrixXd> frames;
         if (keep_frames) frames.push_back(in.x0);
-        // With --frames-dir, the barrier solve's account of each frame (as a scene's energies.csv).
-        const std::string solve_contact = !method.model                      ? physics.solver.contact
-                                          : config.refine.enabled()          ? config.physics.solver.contact
-                                          : method.model->config.refines() ? method.model->config.refine_contact
-                                                                           : std::string();
-        const bool keep_logs = !config.frames_dir.empty() && solve_contact == "barrier" && in.effects.collision &&
-                               !in.body.empty();
+        // With --frames-dir, the barrier solve's account of each frame (as a scene's energies.csv),
+        // where the steps are solves: the solver's, or a network's refined by the config or its file.
+        const PhysicsConfig measured = physics_measured_for(physics, method.model, config.refine.enabled());
+        const bool solves = !method.model || config.refine.enabled() || method.model->config.refines();
+        const bool keep_logs = !config.frames_dir.empty() && solves && measured.solver.contact == "barrier" &&
+                               in.effects.collision && !in.body.empty();
         std::vector<ContactStepLog> logs;
         FrameCallback on_frame;
         if (keep_frames || keep_logs)
@@ -289,8 +288,7 @@ std::vector<LevelResult> evaluate(const EvalConfig& config, const std::vector<Ev
             if (keep_frames) frames.push_back(x);
             if (keep_logs) logs.push_back(*step_log);
           };
-        RolloutResult r = run_rollout(in, step, physics_measured_for(physics, method.model, config.refine.enabled()),
-                                      on_frame);
+        RolloutResult r = run_rollout(in, step, measured, on_frame);
         SequenceResult q = sequence_result(s, r);
         if (!config.frames_dir.empty())
           write_frames_csv(config.frames_dir + "/lv" + std::to_string(level) + "/" + file_name_from(method.name) + "/" +
