@@ -140,8 +140,9 @@ struct ReferenceSolverConfig {
   // fewer out. A step checked only where it ends can have passed through a fast body:
   // fewer_left_out refines the box at 6 m/s free of it, and on the demo walk's 300 frames reads
   // at_step's energy with a quarter of its share inside on average, at 1.13x its time; but on
-  // the held-out CMU walk the refined t-shirt read 5.79x the reference (59x on a frame) against
-  // at_step's 1.03x, so at_step stays the default (docs/physics.md, "Where a refinement starts").
+  // the held-out CMU walk's t-shirt, from five start frames, it read 0.99-25.6x the reference
+  // against at_step's 0.97-2.68x, at_step the lower on four, so at_step stays the default
+  // (docs/physics.md, "Where a refinement starts").
   std::string given_start = "at_step";
   // Where the body, held up by the cloth, is placed at its pose after its moves: true = the
   // cloth it then cuts or holds is first pushed out of it as a start is (intersection_free_start:
