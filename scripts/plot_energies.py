@@ -13,8 +13,10 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 
-# Columns of energies.csv that are not energies (J): the frame and, with a body, penetration.
-NOT_ENERGIES = {"frame", "penetrating_fraction", "max_penetration_mm"}
+# Columns of energies.csv that are not energies (J): the frame, the residual (mm), and with a
+# body the penetration figures, the body's self-crossing and the barrier solve's account.
+NOT_ENERGIES = {"frame", "residual_mm", "penetrating_fraction", "max_penetration_mm", "edges_through_body",
+                "body_self_crossing_faces", "contact_excluded", "caught_by_body", "body_lag_mm"}
 
 
 def read(path):

@@ -1,5 +1,7 @@
 #include "pb4u/body/outer_faces.h"
 
+#include <Eigen/Geometry>
+
 #include "pb4u/spatial/winding_number.h"
 
 namespace pb4u {

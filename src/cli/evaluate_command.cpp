@@ -74,7 +74,7 @@ void add_evaluate_command(CLI::App& app, const GlobalOptions& global) {
       for (auto& name : names)
         name += refine_label(config.refine.iterations, config.refine.tolerance_mm);
     std::vector<EvalMethod> methods;
-    for (size_t i = 0; i < models.size(); ++i) methods.push_back({names[i], &models[i]});
+    for (size_t i = 0; i < models.size(); ++i) methods.push_back({names[i], &models[i], ""});
     for (const auto& m : args->methods)
       if (m == "reference") methods.push_back({"Reference", nullptr, ""});
       else if (m == "penalty") methods.push_back({"Penalty solver", nullptr, "penalty"});

@@ -77,6 +77,9 @@ void add_simulate_command(CLI::App& app, const GlobalOptions& global) {
                            "on {} frames (at most {})",
                            100 * r.penetrating_mean, 100 * r.penetrating_max, r.deepest_mm, r.edges_through_frames,
                            r.edges_through_max);
+    if (r.body_self_crossing_frames > 0)
+      inside += fmt::format("; the body crosses itself on {} frames (at most {} of its faces inside another part)",
+                            r.body_self_crossing_frames, r.body_self_crossing_max);
     if (r.own_start_frames > 0)
       inside += fmt::format("; on {} frames the network's step was higher in the solver's objective than the "
                             "solver's own start, and the refinement started from that",

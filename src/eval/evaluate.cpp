@@ -57,6 +57,12 @@ const PenetrationKey kPenetrationKeys[] = {
     {"edges_through_frames", "Edges thru %", 100.0,
      [](const PenetrationSummary& s) {
        return s.frames > 0 ? double(s.frames_with_edges_through) / s.frames : 0.0;
+     }},
+    // The share of frames where the body crosses itself (one part inside another): there cloth
+    // pinched between the parts has no intersection-free place, whatever the method.
+    {"body_self_crossing_frames", "Body crosses itself %", 100.0,
+     [](const PenetrationSummary& s) {
+       return s.frames > 0 ? double(s.frames_with_body_self_crossing) / s.frames : 0.0;
      }}};
 
 const PenetrationKey* penetration_key(const std::string& row) {

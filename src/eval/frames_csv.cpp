@@ -25,7 +25,7 @@ void write_frames_csv(const std::string& path, const RolloutResult& r, const std
   if (!r.reports.empty())
     for (const auto& [name, value] : r.reports.front().terms) out << ',' << name;
   out << ",total,positive,residual_mm";
-  if (body) out << ",penetrating_fraction,max_penetration_mm,edges_through_body";
+  if (body) out << ",penetrating_fraction,max_penetration_mm,edges_through_body,body_self_crossing_faces";
   if (contact) out << ",contact_excluded,caught_by_body,body_lag_mm";
   out << '\n';
   for (size_t f = 0; f < r.reports.size(); ++f) {
@@ -35,7 +35,7 @@ void write_frames_csv(const std::string& path, const RolloutResult& r, const std
     out << ',' << e.total << ',' << positive_energy(e) << ',' << e.residual_mm;
     if (body) {
       const PenetrationFigures& p = r.penetration[f];
-      out << ',' << p.penetrating_fraction << ',' << p.max_penetration_mm << ',' << p.edges_through;
+      out << ',' << p.penetrating_fraction << ',' << p.max_penetration_mm << ',' << p.edges_through << ',' << p.body_self_crossing_faces;
     }
     if (contact) {
       const ContactStepLog& c = (*contact)[f];

@@ -29,6 +29,7 @@ std::vector<std::string> columns(const ScoreResult& r) {
     names.push_back("penetrating_fraction");
     names.push_back("max_penetration_mm");
     names.push_back("edges_through_body");
+    names.push_back("body_self_crossing_faces");
   }
   return names;
 }
@@ -42,6 +43,7 @@ std::vector<double> row(const ScoreResult& r, size_t i) {
     v.push_back(r.penetration[i].penetrating_fraction);
     v.push_back(r.penetration[i].max_penetration_mm);
     v.push_back(r.penetration[i].edges_through);
+    v.push_back(r.penetration[i].body_self_crossing_faces);
   }
   return v;
 }
@@ -148,6 +150,8 @@ std::string score_json(const ScoreResult& r) {
     out["max_penetration_mm"] = figure(r.penetration_summary.max_penetration_mm);
     out["max_edges_through_body"] = r.penetration_summary.max_edges_through;
     out["frames_with_edges_through_body"] = r.penetration_summary.frames_with_edges_through;
+    out["frames_with_body_self_crossing"] = r.penetration_summary.frames_with_body_self_crossing;
+    out["max_body_self_crossing_faces"] = r.penetration_summary.max_body_self_crossing_faces;
   }
   out["nonfinite_at_frame"] = r.nonfinite_at_frame < 0 ? Json(nullptr) : Json(r.nonfinite_at_frame);
   Json& per_frame = out["per_frame"] = Json::array();

@@ -22,13 +22,15 @@ PenetrationFigures garment_penetration(const Eigen::MatrixXd& garment, const Eig
     if ((garment.row(i).array() >= lo.array()).all() && (garment.row(i).array() <= hi.array()).all())
       boxed.push_back(i);
   PenetrationFigures out;
+  const WindingNumbers body(body_V, body_F);
+  const std::vector<char> covered = covered_faces(body_V, body_F, &body);
+  out.body_self_crossing_faces = int(std::count(covered.begin(), covered.end(), char(1)));
   if (boxed.empty()) return out;
   Eigen::MatrixXd points(boxed.size(), 3);
   for (size_t k = 0; k < boxed.size(); ++k) points.row(k) = garment.row(boxed[k]);
   // Inside: wrapped by the body at least once, which also holds where one part of the body is
   // inside another (there the nearest face's side, which signed_distance_to_surface reads, can
   // say outside). Depth: the distance to the faces no other part covers.
-  const WindingNumbers body(body_V, body_F);
   const Eigen::VectorXi wraps = body.at(points);
   std::vector<Eigen::Index> inside;
   for (Eigen::Index k = 0; k < wraps.size(); ++k)
@@ -37,7 +39,9 @@ PenetrationFigures garment_penetration(const Eigen::MatrixXd& garment, const Eig
   if (inside.empty()) return out;
   Eigen::MatrixXd deep(inside.size(), 3);
   for (size_t k = 0; k < inside.size(); ++k) deep.row(Eigen::Index(k)) = points.row(inside[k]);
-  const Eigen::MatrixXi outer = outer_faces(body_V, body_F, &body);
+  Eigen::MatrixXi outer(body_F.rows() - out.body_self_crossing_faces, 3);
+  for (Eigen::Index f = 0, r = 0; f < body_F.rows(); ++f)
+    if (!covered[size_t(f)]) outer.row(r++) = body_F.row(f);
   const Eigen::VectorXd d = signed_distance_to_surface(deep, body_V, outer.rows() > 0 ? outer : body_F);
   out.max_penetration_mm = d.cwiseAbs().maxCoeff() * 1e3;
   return out;
@@ -49,7 +53,7 @@ PenetrationSummary summarize_penetration(const std::vector<PenetrationFigures>& 
   std::vector<PenetrationSummary> each;
   for (const auto& f : frames)
     each.push_back({f.penetrating_fraction, f.penetrating_fraction, f.max_penetration_mm, f.edges_through,
-                    f.edges_through > 0 ? 1 : 0, 1});
+                    f.edges_through > 0 ? 1 : 0, 1, f.body_self_crossing_faces, f.body_self_crossing_faces > 0 ? 1 : 0});
   return summarize_penetration(each);
 }
 
@@ -63,6 +67,8 @@ PenetrationSummary summarize_penetration(const std::vector<PenetrationSummary>& 
     s.max_edges_through = std::max(s.max_edges_through, q.max_edges_through);
     s.frames_with_edges_through += q.frames_with_edges_through;
     s.frames += q.frames;
+    s.max_body_self_crossing_faces = std::max(s.max_body_self_crossing_faces, q.max_body_self_crossing_faces);
+    s.frames_with_body_self_crossing += q.frames_with_body_self_crossing;
   }
   return s;
 }

@@ -287,8 +287,12 @@ RolloutResult run_rollout(const RolloutInput& in, const StepFunction& step,
     if (on_frame) on_frame(frame, x, report, penetration ? &*penetration : nullptr);
     const double positive = positive_energy(report);
     if (frame == 1) start_positive = positive;
-    const std::string why = energy_divergence(in.divergence, start_positive, positive);
+    std::string why = energy_divergence(in.divergence, start_positive, positive);
     if (!why.empty()) {
+      // Where the body crosses itself, cloth pinched between its parts has nowhere to go: say so.
+      if (penetration && penetration->body_self_crossing_faces > 0)
+        why += ", on a frame where the body crosses itself (" + std::to_string(penetration->body_self_crossing_faces) +
+               " of its faces inside another part)";
       result.diverged = true;
       result.diverged_at_frame = frame;
       result.diverged_reason = why;

@@ -92,6 +92,7 @@ SimulateResult simulate(const SceneConfig& scene, const std::string& scene_path,
     zero.emplace_back("penetrating_fraction", nan);
     zero.emplace_back("max_penetration_mm", nan);
     zero.emplace_back("edges_through_body", nan);
+    zero.emplace_back("body_self_crossing_faces", nan);
   }
   if (barrier_columns) {
     zero.emplace_back("contact_excluded", nan);
@@ -114,6 +115,7 @@ SimulateResult simulate(const SceneConfig& scene, const std::string& scene_path,
                                     row.emplace_back("penetrating_fraction", penetration->penetrating_fraction);
                                     row.emplace_back("max_penetration_mm", penetration->max_penetration_mm);
                                     row.emplace_back("edges_through_body", penetration->edges_through);
+                                    row.emplace_back("body_self_crossing_faces", penetration->body_self_crossing_faces);
                                   }
                                   if (barrier_columns) {
                                     row.emplace_back("contact_excluded", contact_log->excluded);
@@ -150,6 +152,8 @@ SimulateResult simulate(const SceneConfig& scene, const std::string& scene_path,
     result.deepest_mm = s.max_penetration_mm;
     result.edges_through_max = s.max_edges_through;
     result.edges_through_frames = s.frames_with_edges_through;
+    result.body_self_crossing_frames = s.frames_with_body_self_crossing;
+    result.body_self_crossing_max = s.max_body_self_crossing_faces;
   }
   for (double ms : r.step_ms) result.step_ms_mean += ms / r.step_ms.size();
   result.residual_measured = in.measure_residual;

@@ -101,7 +101,7 @@ TEST(Stability, EvaluateReportsPenetrationAndEverySequence) {
   const nlohmann::json report = nlohmann::json::parse(json);  // valid JSON: no nan
   for (const auto& [name, method] : report.at("levels")[0].at("methods").items()) {
     for (const char* key : {"penetrating_fraction", "max_penetrating_fraction", "max_penetration_mm",
-                            "max_edges_through", "edges_through_frames"})
+                            "max_edges_through", "edges_through_frames", "body_self_crossing_frames"})
       EXPECT_TRUE(method.contains(key) && method.at(key).is_number()) << name << " " << key << "\n" << json;
     ASSERT_FALSE(method.at("sequences").empty()) << name;
     EXPECT_EQ(method.at("sequences")[0].at("body"), "mannequin") << name;
@@ -207,23 +207,31 @@ TEST(Stability, SimulateWritesPenetrationColumnsWithABody) {
   SimulateResult r = simulate(s, "scene.yaml", &shipped(), out);
   ASSERT_EQ(r.frames, 3);
   std::ifstream csv(out + "/energies.csv");
-  std::string header, row;
+  std::string header;
   std::getline(csv, header);
   EXPECT_EQ(header,
             "frame,stretch,bending,collision,inertia,gravity,friction,total,residual_mm,penetrating_fraction,"
-            "max_penetration_mm,edges_through_body");
-  std::getline(csv, row);  // frame 0: not computed
-  EXPECT_EQ(row.substr(row.rfind(',') + 1), "nan");
-  int through = 0, frames_with = 0;
-  while (std::getline(csv, row)) {
-    const std::string last = row.substr(row.rfind(',') + 1);
-    EXPECT_NE(last, "nan") << row;
-    EXPECT_GE(std::stod(last), 0) << row;
-    through = std::max(through, int(std::stod(last)));
-    frames_with += std::stod(last) > 0;
+            "max_penetration_mm,edges_through_body,body_self_crossing_faces");
+  const auto rows = test::read_csv(out + "/energies.csv");
+  ASSERT_EQ(rows.size(), 4u);  // the header and frames 0-2
+  const size_t edges = rows[0].size() - 2, crossing = rows[0].size() - 1;
+  EXPECT_EQ(rows[1][edges], "nan");  // frame 0: not computed
+  EXPECT_EQ(rows[1][crossing], "nan");
+  int through = 0, frames_with = 0, crossing_frames = 0, crossing_most = 0;
+  for (size_t i = 2; i < rows.size(); ++i) {
+    for (const size_t c : {edges, crossing}) {
+      EXPECT_NE(rows[i][c], "nan") << i;
+      EXPECT_GE(std::stod(rows[i][c]), 0) << i;
+    }
+    through = std::max(through, int(std::stod(rows[i][edges])));
+    frames_with += std::stod(rows[i][edges]) > 0;
+    crossing_most = std::max(crossing_most, int(std::stod(rows[i][crossing])));
+    crossing_frames += std::stod(rows[i][crossing]) > 0;
   }
   EXPECT_EQ(r.edges_through_max, through);  // the summary agrees with the rows
   EXPECT_EQ(r.edges_through_frames, frames_with);
+  EXPECT_EQ(r.body_self_crossing_max, crossing_most);
+  EXPECT_EQ(r.body_self_crossing_frames, crossing_frames);
 }
 
 TEST(Stability, TheResidualIsMeasuredEachFrameUnlessSwitchedOff) {
@@ -275,7 +283,7 @@ TEST(Stability, TheIntersectionFreeSolverReportsPerFrameTheClothItLeftOutOfConta
   s.physics.solver.contact = "penalty";
   const SimulateResult p = simulate(s, "scene.yaml", nullptr, out + "/penalty");
   EXPECT_FALSE(p.barrier_contact);
-  EXPECT_EQ(test::read_csv(out + "/penalty/energies.csv")[0].back(), "edges_through_body");
+  EXPECT_EQ(test::read_csv(out + "/penalty/energies.csv")[0].back(), "body_self_crossing_faces");
 }
 
 TEST(Stability, MethodPenaltyRunsThePenaltySolverWhateverTheScenesContact) {
@@ -289,7 +297,7 @@ TEST(Stability, MethodPenaltyRunsThePenaltySolverWhateverTheScenesContact) {
     ASSERT_EQ(r.exit_code, 0) << r.err;
   }
   EXPECT_EQ(test::read_csv(dir + "/reference/energies.csv")[0].back(), "body_lag_mm");  // barrier, as the scene says
-  EXPECT_EQ(test::read_csv(dir + "/penalty/energies.csv")[0].back(), "edges_through_body");
+  EXPECT_EQ(test::read_csv(dir + "/penalty/energies.csv")[0].back(), "body_self_crossing_faces");
 }
 
 TEST(Stability, SimulateStopsOnTheEnergyGuardFromTheCommandLine) {

@@ -189,11 +189,13 @@ RolloutFigures check_rollout(const std::string& label, const RolloutInput& input
               fig.mean_positive, fig.max_positive, fig.max_speed, fig.seconds);
   if (fig.penetration)
     std::printf("[hard] %s: inside %.2f%% mean / %.2f%% max, deepest %.2f mm; cloth edges through the body on %d of "
-                "%d frames, at most %d\n",
+                "%d frames, at most %d; the body crosses itself on %d frames (at most %d faces inside another "
+                "part)\n",
                 label.c_str(), 100 * fig.penetration->penetrating_fraction,
                 100 * fig.penetration->max_penetrating_fraction, fig.penetration->max_penetration_mm,
                 fig.penetration->frames_with_edges_through, fig.penetration->frames,
-                fig.penetration->max_edges_through);
+                fig.penetration->max_edges_through, fig.penetration->frames_with_body_self_crossing,
+                fig.penetration->max_body_self_crossing_faces);
   if (judge == Judge::kReport && fig.violations > 0)
     std::printf("[hard] %s: outside its frame bounds %d times, first: %s\n", label.c_str(), fig.violations,
                 fig.first_violation.c_str());

@@ -141,6 +141,12 @@ TEST(Penetration, APointInsideOnePartNearAnotherPartsCoveredFaceIsInside) {
   // The nearest outer face: a triangle of the second box's y = 0.2 side (its centroid is outside
   // the first box), at (0.8, 0.2, 0.5); the first box's sides are 0.5 m away.
   EXPECT_NEAR(figures.max_penetration_mm, 1e3 * std::hypot(0.05, 0.3), 1e-9);
+  // The body crosses itself: the second box's x = 0.8 side (2 triangles) lies inside the first
+  // box, and the first box's x = 1 side (2 triangles, centroids at y, z = 1/3 and 2/3) inside the
+  // second; every other face is outside the other box. A closed sphere does not cross itself.
+  EXPECT_EQ(figures.body_self_crossing_faces, 4);
+  const TriMesh sphere = test::icosphere(0.5, 3, Eigen::RowVector3d(0.5, 0.5, 0.5));
+  EXPECT_EQ(garment_penetration(p, sphere.V, sphere.F).body_self_crossing_faces, 0);
 }
 
 TEST(Penetration, SummariesOverFramesAndSequences) {
@@ -165,6 +171,15 @@ TEST(Penetration, SummariesOverFramesAndSequences) {
   EXPECT_EQ(d.max_edges_through, 4);
   EXPECT_EQ(d.frames_with_edges_through, 2);
   EXPECT_EQ(d.frames, 6);
+  // Frames where the body crosses itself: the most faces on one, and how many frames.
+  PenetrationFigures crossing{0.0, 0.0};
+  crossing.body_self_crossing_faces = 7;
+  const PenetrationSummary e = summarize_penetration(std::vector<PenetrationFigures>{clear, crossing, crossed});
+  EXPECT_EQ(e.max_body_self_crossing_faces, 7);
+  EXPECT_EQ(e.frames_with_body_self_crossing, 1);
+  const PenetrationSummary f = summarize_penetration(std::vector<PenetrationSummary>{e, e, a});
+  EXPECT_EQ(f.max_body_self_crossing_faces, 7);
+  EXPECT_EQ(f.frames_with_body_self_crossing, 2);
   EXPECT_THROW(summarize_penetration(std::vector<PenetrationFigures>{}), Error);
 }
 

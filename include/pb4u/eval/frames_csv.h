@@ -11,7 +11,8 @@ namespace pb4u {
 
 // One row per measured frame (1..): each energy term (J), total, positive (stretch + bending +
 // collision), residual_mm (nan where not measured) and, when the rollout had a body,
-// penetrating_fraction, max_penetration_mm and edges_through_body; with `contact` (one per
+// penetrating_fraction, max_penetration_mm, edges_through_body and body_self_crossing_faces
+// (the body's faces inside another part of it: > 0 where it crosses itself); with `contact` (one per
 // frame, the barrier solve's account), also contact_excluded, caught_by_body and body_lag_mm,
 // as a scene's energies.csv has them. Written atomically, the folders made; throws pb4u::Error
 // naming the file when it cannot be written.

@@ -23,6 +23,8 @@ struct SimulateResult {
   bool with_body = false;
   double penetrating_mean = 0, penetrating_max = 0, deepest_mm = 0;
   int edges_through_max = 0, edges_through_frames = 0;  // cloth edges through the body: most on a frame, frames with any
+  // Frames where the body crosses itself, and most of its faces inside another part on one.
+  int body_self_crossing_frames = 0, body_self_crossing_max = 0;
   double step_ms_mean = 0;
   double residual_mm_mean = 0, residual_mm_max = 0;  // EnergyReport::residual_mm over the frames
   bool residual_measured = true;                      // false with outputs.residual off
