@@ -91,7 +91,7 @@ def rows_of(run, label, reference):
                 out.append([label, case, str(level["level"]), name, "%d / %d" % (q["frames"], ref["frames"]), mean_r,
                             max_r, percent(q.get("penetrating_fraction")), percent(q.get("max_penetrating_fraction")),
                             mm(q.get("max_penetration_mm")), mm(ref.get("max_penetration_mm"))] + edges(q) +
-                           [edges(ref)[0], diverged(q), diverged(ref)])
+                           [edges(ref)[0], crossing(ref), diverged(q), diverged(ref)])
                 s["cases"] += 1
                 s["diverged"] += bool(q.get("diverged"))
                 for k, v in (("mean_ratio", mean_r), ("max_ratio", max_r)):
@@ -124,7 +124,7 @@ def rows_without_reference(run, label):
                 out.append([label, case, str(level["level"]), name, str(q["frames"]),
                             "%.3g" % e if e is not None else "n/a", "%.3g" % emax if emax is not None else "n/a",
                             percent(q.get("penetrating_fraction")), percent(q.get("max_penetrating_fraction")),
-                            mm(q.get("max_penetration_mm"))] + edges(q) + [diverged(q)])
+                            mm(q.get("max_penetration_mm"))] + edges(q) + [crossing(q), diverged(q)])
                 s["cases"] += 1
                 if q.get("diverged"):
                     s["diverged"] += 1
@@ -156,10 +156,11 @@ def print_without_reference(specs, note):
     print("No reference solver: E+ = positive energy (stretch + bending + collision) in J per frame, mean over the "
           "frames run and largest frame. Inside: share of garment vertices inside the body (mean / largest over "
           "frames); depth: deepest penetration; edges thru: cloth edges through a body triangle (most on a frame, "
-          "share of frames with any). Diverged: stopped by the guard at that frame.\n")
+          "share of frames with any); body crosses itself: share of the frames run on which one part of the body lies "
+          "inside another. Diverged: stopped by the guard at that frame.\n")
     print(table(["run", "case (garment / motion / body)", "level", "network", "frames", "E+ mean J", "E+ max J",
                  "inside mean %", "inside max %", "depth max mm", "edges thru max", "edges thru frames %",
-                 "diverged"], rows))
+                 "body crosses itself frames %", "diverged"], rows))
     print("\n## Per network\n")
     print(table(["run", "network", "cases", "diverged", "median E+ mean J", "worst inside %", "deepest mm",
                  "most edges thru", "stopped (garment / motion (frame))"],
@@ -174,6 +175,13 @@ def edges(q):
     if most is None or most < 0:
         return ["n/a", "n/a"]
     return ["%d" % most, percent(frames) if frames is not None else "n/a"]
+
+
+def crossing(q):
+    """The share of frames on which the body crosses itself (one part inside another, where
+    pinched cloth has no free place): 'n/a' for runs made before evaluate measured it."""
+    frames = q.get("body_self_crossing_frames")
+    return percent(frames) if frames is not None else "n/a"
 
 
 def median(values):
@@ -210,11 +218,14 @@ def main():
     print("E+ = positive energy (stretch + bending + collision, J per frame); ratios are the network's over the "
           "solver's on the same sequence (mean over each one's measured frames, and largest frame). Inside: share "
           "of garment vertices inside the body (mean / largest over frames); depth: deepest penetration; edges "
-          "thru: cloth edges through a body triangle (most on a frame, share of frames with any). "
-          "Frames: measured by the network / by the solver.\n")
+          "thru: cloth edges through a body triangle (most on a frame, share of frames with any). Body crosses "
+          "itself: share of the solver's frames on which one part of the body lies inside another, where cloth "
+          "pinched between them has no free place for any method. Frames: measured by the network / by the "
+          "solver.\n")
     print(table(["run", "case (garment / motion / body)", "level", "network", "frames", "E+ mean ratio",
                  "E+ max ratio", "inside mean %", "inside max %", "depth max mm", "solver depth max mm",
-                 "edges thru max", "edges thru frames %", "solver edges thru max", "diverged", "solver diverged"],
+                 "edges thru max", "edges thru frames %", "solver edges thru max", "body crosses itself frames %",
+                 "diverged", "solver diverged"],
                 rows))
     print("\n## Worst case per network\n")
     print(table(["run", "network", "cases", "diverged", "median E+ mean ratio", "worst E+ mean ratio",
