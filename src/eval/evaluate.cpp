@@ -60,7 +60,7 @@ const PenetrationKey kPenetrationKeys[] = {
      }},
     // The share of frames where the body crosses itself (one part inside another): there cloth
     // pinched between the parts has no intersection-free place, whatever the method.
-    {"body_self_crossing_frames", "Body crosses itself %", 100.0,
+    {"body_self_crossing_frames", "Body crosses %", 100.0,
      [](const PenetrationSummary& s) {
        return s.frames > 0 ? double(s.frames_with_body_self_crossing) / s.frames : 0.0;
      }}};
@@ -390,7 +390,9 @@ std::string format_table(const std::vector<LevelResult>& levels) {
   if (any_penetration)
     out << "Inside %: garment vertices inside the body, mean over frames and sequences (max: worst frame);\n"
            "Depth max mm: the deepest garment vertex on any frame; Edges thru: cloth edges through a body\n"
-           "triangle (both ends may be outside), the most on a frame (max) and the share of frames with any (%).\n";
+           "triangle (both ends may be outside), the most on a frame (max) and the share of frames with any (%);\n"
+           "Body crosses %: the share of frames on which one part of the body lies inside another (cloth pinched\n"
+           "there has no free place).\n";
   return out.str();
 }
 
