@@ -22,7 +22,10 @@ std::vector<char> covered_faces(const Eigen::MatrixXd& V, const Eigen::MatrixXi&
 }
 
 Eigen::MatrixXi outer_faces(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const WindingNumbers* wraps) {
-  const std::vector<char> covered = covered_faces(V, F, wraps);
+  return outer_faces(F, covered_faces(V, F, wraps));
+}
+
+Eigen::MatrixXi outer_faces(const Eigen::MatrixXi& F, const std::vector<char>& covered) {
   std::vector<int> keep;
   for (Eigen::Index f = 0; f < F.rows(); ++f)
     if (!covered[size_t(f)]) keep.push_back(int(f));

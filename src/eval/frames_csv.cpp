@@ -35,7 +35,8 @@ void write_frames_csv(const std::string& path, const RolloutResult& r, const std
     out << ',' << e.total << ',' << positive_energy(e) << ',' << e.residual_mm;
     if (body) {
       const PenetrationFigures& p = r.penetration[f];
-      out << ',' << p.penetrating_fraction << ',' << p.max_penetration_mm << ',' << p.edges_through << ',' << p.body_self_crossing_faces;
+      out << ',' << p.penetrating_fraction << ',' << p.max_penetration_mm << ',' << p.edges_through << ','
+          << p.body_self_crossing_faces;
     }
     if (contact) {
       const ContactStepLog& c = (*contact)[f];

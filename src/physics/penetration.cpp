@@ -39,9 +39,7 @@ PenetrationFigures garment_penetration(const Eigen::MatrixXd& garment, const Eig
   if (inside.empty()) return out;
   Eigen::MatrixXd deep(inside.size(), 3);
   for (size_t k = 0; k < inside.size(); ++k) deep.row(Eigen::Index(k)) = points.row(inside[k]);
-  Eigen::MatrixXi outer(body_F.rows() - out.body_self_crossing_faces, 3);
-  for (Eigen::Index f = 0, r = 0; f < body_F.rows(); ++f)
-    if (!covered[size_t(f)]) outer.row(r++) = body_F.row(f);
+  const Eigen::MatrixXi outer = outer_faces(body_F, covered);  // the faces counted above, left out
   const Eigen::VectorXd d = signed_distance_to_surface(deep, body_V, outer.rows() > 0 ? outer : body_F);
   out.max_penetration_mm = d.cwiseAbs().maxCoeff() * 1e3;
   return out;

@@ -20,5 +20,7 @@ std::vector<char> covered_faces(const Eigen::MatrixXd& V, const Eigen::MatrixXi&
 
 // The rows of F that no other part covers, in F's order; F itself when none is covered.
 Eigen::MatrixXi outer_faces(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const WindingNumbers* wraps = nullptr);
+// The same from covered_faces(V, F) already computed (one flag per row of F).
+Eigen::MatrixXi outer_faces(const Eigen::MatrixXi& F, const std::vector<char>& covered);
 
 }  // namespace pb4u
