@@ -16,7 +16,8 @@
 #
 #   scripts/device_checks.sh [--out DIR] [--budget SECONDS] [--jobs N] [--skip-build]
 #                            [--device D] [--triangles "N ..."] [--train-steps "QUICK PAPER"]
-#                            [--capacity-steps N] [--capacity-sizes "NAME ..."] [--skip-timings]
+#                            [--capacity-steps N] [--capacity-sizes "NAME ..."]
+#                            [--capacity-set KEY=VALUE ...] [--skip-timings]
 #
 #   --budget SECONDS  phases that would start with too little of it left are skipped (default 540)
 #   --skip-build      use an existing build-cuda/ (PB4U=path overrides the binary)
@@ -26,6 +27,8 @@
 #                     (`train --profile`) over a third of them
 #   --capacity-steps  steps of each capacity run (default 0: none)
 #   --capacity-sizes  which of quick, mid, paper (default all three)
+#   --capacity-set    a training config override for every capacity run (repeatable), e.g.
+#                     physics.collision.hold_steps=250 for a recipe compressed to fit the budget
 #   --skip-timings    no training speed, profile or Table 3 (phases 2-3): when the network's code
 #                     has not changed since their last figures, the budget goes to capacity
 # Needs device_bundle/debs (scripts/device_bundle.sh) and data/generated/quick/quick.h5 carried
@@ -34,7 +37,7 @@ set -uo pipefail
 cd "$(dirname "$0")/.."
 root=$PWD
 out=${OUT:-runs/device} budget=540 jobs=$(nproc) build_step=1 device=cuda triangles="12000 25000 48000" steps="300 100" capacity_steps=0
-timings=1 capacity_names="quick mid paper"
+timings=1 capacity_names="quick mid paper" capacity_sets=()
 while [ $# -gt 0 ]; do
   case "$1" in
     --out) out=$2; shift ;;
@@ -46,6 +49,7 @@ while [ $# -gt 0 ]; do
     --train-steps) steps=$2; shift ;;
     --capacity-steps) capacity_steps=$2; shift ;;
     --capacity-sizes) capacity_names=$2; shift ;;
+    --capacity-set) capacity_sets+=(--set "$2"); shift ;;
     --skip-timings) timings=0 ;;
     -h|--help) awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next } NR > 1 { exit }' "$0"; exit 0 ;;
     *) echo "device_checks: unknown argument '$1' (see --help)" >&2; exit 2 ;;
@@ -188,10 +192,11 @@ if [ "$capacity_steps" -gt 0 ]; then
       "$pb4u" -q --threads 2 train --config configs/train/quick.yaml --out "/tmp/capacity_$name" \
         --set run.device="$device" --set run.steps="$capacity_steps" --set data.dataset="$dataset" \
         --set run.checkpoint_every=$((capacity_steps / 4)) --set run.keep_checkpoints=3 \
-        --set model.latent="$latent" --set model.num_blocks="$blocks" >"/tmp/capacity_$name.log" 2>&1
+        --set model.latent="$latent" --set model.num_blocks="$blocks" "${capacity_sets[@]}" \
+        >"/tmp/capacity_$name.log" 2>&1
       echo "$? $(awk -v a="$t0" -v b="$(now)" 'BEGIN { printf "%.1f", b - a }')" >"/tmp/capacity_$name.done" ) &
   done
-  say "capacity: quick.yaml's recipe, $capacity_steps steps each, sizes ${capacity_sizes[*]}, at once on $device"
+  say "capacity: quick.yaml's recipe${capacity_sets:+ with ${capacity_sets[*]}}, $capacity_steps steps each, sizes ${capacity_sizes[*]}, at once on $device"
 fi
 
 # 5. The whole suite but the cuda label, in what is left.
@@ -218,8 +223,9 @@ if [ "$capacity_steps" -gt 0 ]; then
     done
     tail -n 3 "$dir.log" >"$dir/export/train_tail.log" 2>/dev/null
     cp "$dir/metrics.jsonl" "$dir/config.yaml" "$dir/export/" 2>/dev/null
-    if [ "$name" = paper ]; then  # 16 MB a model file: the newest two, one file each, beside the rest
-      ls "$dir"/export/*.h5 2>/dev/null | head -n -2 | xargs -r rm -f
+    if [ "$name" = paper ]; then  # 16 MB a model file: the newest two (three when it trains alone)
+      keep=$(( ${#capacity_sizes[@]} == 1 ? 3 : 2 ))
+      ls "$dir"/export/*.h5 2>/dev/null | head -n -"$keep" | xargs -r rm -f
       for f in "$dir"/export/*.h5; do [ -f "$f" ] && mv "$f" "$out/capacity_$(basename "$f")"; done
     fi
     tar -C "$dir/export" -czf "$out/capacity_$name.tgz" .
