@@ -91,6 +91,31 @@ double max_safe_step(const Eigen::MatrixXd& x, const Eigen::MatrixXd& dx, const 
   return options.t_max;
 }
 
+std::vector<char> vertices_holding_step(const Eigen::MatrixXd& x, const Eigen::MatrixXd& dx,
+                                        const Eigen::MatrixXi& cloth_edges, const ContactSurface& body,
+                                        const Eigen::MatrixXd& body_motion, const ContactCandidates& candidates,
+                                        double below) {
+  const Eigen::Vector3d zero = Eigen::Vector3d::Zero();
+  auto cloth_step = [&](int i) { return dx.rows() ? point_row(dx, i) : zero; };
+  auto body_step = [&](int j) { return body_motion.rows() ? point_row(body_motion, j) : zero; };
+  AdditiveCcdOptions options;
+  options.t_max = below;  // a pair is only followed as far as `below`
+  std::vector<char> out(size_t(x.rows()), 0);
+  for (const auto& [v, f] : candidates.vertex_face) {
+    const int a = body.F(f, 0), b = body.F(f, 1), c = body.F(f, 2);
+    if (point_triangle_ccd(point_row(x, v), point_row(body.V, a), point_row(body.V, b), point_row(body.V, c),
+                           cloth_step(v), body_step(a), body_step(b), body_step(c), options) < below)
+      out[size_t(v)] = 1;
+  }
+  for (const auto& [e, be] : candidates.edge_edge) {
+    const int a = cloth_edges(e, 0), b = cloth_edges(e, 1), c = body.E(be, 0), d = body.E(be, 1);
+    if (edge_edge_ccd(point_row(x, a), point_row(x, b), point_row(body.V, c), point_row(body.V, d), cloth_step(a),
+                      cloth_step(b), body_step(c), body_step(d), options) < below)
+      out[size_t(a)] = out[size_t(b)] = 1;
+  }
+  return out;
+}
+
 std::vector<int> cloth_edges_through_body(const Eigen::MatrixXd& x, const Eigen::MatrixXi& cloth_edges,
                                           const ContactSurface& body) {
   // A crossing point lies within half the edge of one of its ends: the faces near each end,

@@ -31,8 +31,14 @@ namespace {
 
 // m: the longest move of a vertex (cloth or body) in one line search of the intersection-free solve.
 constexpr double kMaxContactStep = 5e-2;
-// CCD-certified body moves per step; a body not at its pose after them is placed there.
+// CCD-certified body moves per step beyond the ones its motion needs at kMaxContactStep each
+// (a limb swinging 70 cm in a frame needs 14); a body not at its pose after them is placed there.
 constexpr int kMaxBodyMoves = 24;
+// A body move that some cloth allows less than this fraction of is held back by it (pinched
+// between two body parts, or an edge dragged against a body edge it cannot pass); rounds of
+// leaving that cloth out of barrier contact before the move is taken as it is.
+constexpr double kHeldBelow = 0.1;
+constexpr int kReleaseRounds = 4;
 // Rounds of Provot's pass and the push out of the body that make a start both intersection-free
 // and within the strain limit (solver.strain_limit).
 constexpr int kStartRounds = 10;
@@ -192,8 +198,10 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
   // kinematic objects): each iteration first moves the body by what is left of it, the cloth it
   // touches carried along (carried_by_body.h), as far as CCD certifies; then one quasi-Newton
   // step of the cloth against the body where it stands. Where the cloth leaves the body no room
-  // (pinched between two body parts) the body is placed at its pose after kMaxBodyMoves tries
-  // and the cloth it then cuts or holds leaves barrier contact (SolverResult::caught_by_body).
+  // (pinched between two body parts) the cloth that holds a move back leaves barrier contact
+  // and the body moves on; a body still short of its pose after the moves it is allowed is
+  // placed there, and the cloth it then cuts or holds leaves barrier contact too
+  // (SolverResult::caught_by_body counts both).
   ContactSurface body;
   ContactCandidates candidates;
   BarrierSettings settings = barrier ? barrier->settings : BarrierSettings{};
@@ -492,8 +500,8 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
     pin_now = to;
     x_base = x_base.index_copy(0, pin_index, matrix_to_tensor(pin_now, opts.dtype().toScalarType(), state.x.device()));
   };
-  // Where the cloth leaves the body no room (pinched between two body parts, or a body that
-  // intersects itself) the body is placed at its pose after kMaxBodyMoves tries; the cloth it
+  // Where the body is still short of its pose after the moves it is allowed (cloth that left it
+  // no room and that no release freed) it is placed there; the cloth it
   // now cuts or holds (pushed out of it first as a start is, with solver.push_out_caught) leaves
   // barrier contact for the penalty term (SolverResult::excluded).
   auto place_body = [&](double left) {
@@ -526,11 +534,12 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
   // The body's move of this iteration: what is left of its motion (capped), the cloth it
   // touches carried along and the pins by the same share of what is left of theirs, all cut to
   // what CCD certifies. False when nothing moved.
-  int body_moves = 0;
+  int body_moves = 0, moves_allowed = 0;
   auto move_body = [&]() {
     const double left = body_left();
     if (left <= 0) return false;
-    if (++body_moves > kMaxBodyMoves) {
+    if (body_moves == 0) moves_allowed = kMaxBodyMoves + int(std::ceil(left / kMaxContactStep));
+    if (++body_moves > moves_allowed) {
       place_body(left);
       return true;
     }
@@ -544,8 +553,30 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
     for (size_t j = 0; j < pin_rows.size(); ++j) D.row(pin_rows[j]) = DP.row(Eigen::Index(j));
     candidates = contact_candidates(X, D, barrier->cloth_edges, body, DB, barrier->settings.d_hat);
     drop_pairs_of(excluded, barrier->cloth_edges, &candidates);
-    const double t = max_safe_step(X, D, barrier->cloth_edges, body, DB, candidates);
-    if (!(t > 0)) return false;
+    double t = max_safe_step(X, D, barrier->cloth_edges, body, DB, candidates);
+    // Cloth that holds the move back would stall the body for the rest of the step, and the
+    // body would then be placed at its pose onto everything in its way: the vertices of the
+    // pairs that allow less than kHeldBelow of the move leave barrier contact (caught by the
+    // body, for the penalty term), and the move is certified again without them.
+    bool released = false;
+    for (int round = 0; round < kReleaseRounds && t < kHeldBelow; ++round) {
+      const std::vector<char> holding =
+          vertices_holding_step(X, D, barrier->cloth_edges, body, DB, candidates, kHeldBelow);
+      int newly = 0;
+      for (Eigen::Index i = 0; i < n; ++i)
+        if (holding[size_t(i)] && free_flags[size_t(i)] && !excluded[size_t(i)]) {
+          excluded[size_t(i)] = 1;
+          ++newly;
+        }
+      if (newly == 0) break;
+      result.excluded += newly;
+      result.caught_by_body += newly;
+      released = true;
+      drop_pairs_of(excluded, barrier->cloth_edges, &candidates);
+      t = max_safe_step(X, D, barrier->cloth_edges, body, DB, candidates);
+    }
+    if (released) set_fallback();  // the objective changed: the caller evaluates it again
+    if (!(t > 0)) return released;
     // A full step lands exactly on the pose and the pins' targets (no rounding left over).
     const bool home = t >= 1 && share >= 1;
     body.V = home ? barrier->body_next : Eigen::MatrixXd(body.V + t * DB);

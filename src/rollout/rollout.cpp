@@ -145,9 +145,10 @@ StepFunction reference_stepper(const ReferenceSolverConfig& solver, std::shared_
       // Said once per rollout at the default level, every frame with -v.
       const auto level = *warned ? spdlog::level::debug : spdlog::level::warn;
       const std::string caught =
-          r.caught_by_body > 0 ? fmt::format(" ({} caught by the body, placed {:.1f} mm short of its pose)",
-                                             r.caught_by_body, 1e3 * r.body_lag)
-                               : "";
+          r.caught_by_body == 0 ? ""
+          : r.body_lag > 0      ? fmt::format(" ({} caught by the body, placed {:.1f} mm short of its pose)",
+                                              r.caught_by_body, 1e3 * r.body_lag)
+                                : fmt::format(" ({} caught by the body as it moved)", r.caught_by_body);
       spdlog::log(level, "reference solver: {} cloth vertices found no intersection-free place{}: the penalty term "
                   "holds them{}",
                   r.excluded, caught, *warned ? "" : " (each such frame is logged with -v; energies.csv counts them)");

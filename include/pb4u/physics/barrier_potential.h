@@ -42,6 +42,13 @@ double max_safe_step(const Eigen::MatrixXd& x, const Eigen::MatrixXd& dx, const 
                      const ContactSurface& body, const Eigen::MatrixXd& body_motion,
                      const ContactCandidates& candidates);
 
+// Per cloth vertex, 1 where a candidate pair it belongs to allows less than `below` of that
+// step on its own (additive CCD of that pair alone): the cloth that holds a step back.
+std::vector<char> vertices_holding_step(const Eigen::MatrixXd& x, const Eigen::MatrixXd& dx,
+                                        const Eigen::MatrixXi& cloth_edges, const ContactSurface& body,
+                                        const Eigen::MatrixXd& body_motion, const ContactCandidates& candidates,
+                                        double below);
+
 // The rows of the cloth edges that pass through a body triangle (segment-triangle
 // intersection): none for an intersection-free state.
 std::vector<int> cloth_edges_through_body(const Eigen::MatrixXd& x, const Eigen::MatrixXi& cloth_edges,

@@ -35,7 +35,8 @@ struct SolverResult {
   int pushed_out = 0;        // vertices moved out of the body at t before the step
   int excluded = 0;          // vertices left out of barrier contact this step (the penalty term
                              // holds them): no free place at the start (intersection_free_start.h),
-  int caught_by_body = 0;    // or, of those, cut or held by the body placed at its pose
+  int caught_by_body = 0;    // or, of those, held by the body: pinched as it moved (left out so
+                             // that it could move on) or cut or held by the body placed at its pose
   std::vector<char> excluded_vertices;  // per cloth vertex, 1 for those left out (empty: none)
   // Strain barrier only (solver.strain_limit > 0; 0 / 0 otherwise):
   double max_strain = 0;     // largest edge strain at x_next over the edges in the barrier
