@@ -535,6 +535,31 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
   // touches carried along and the pins by the same share of what is left of theirs, all cut to
   // what CCD certifies. False when nothing moved.
   int body_moves = 0, moves_allowed = 0;
+  std::vector<char> released;  // per cloth vertex: left out of contact so that the body could move on
+  // Once the body is at its pose, the cloth it passed over is pushed out of it as a start is;
+  // what that frees rejoins barrier contact (the rest stays with the penalty term).
+  auto readmit_released = [&]() {
+    if (released.empty()) return;
+    const Eigen::MatrixXd X = positions(q);
+    FeasibleStart out = intersection_free_start(X, X, barrier->cloth_edges, body.V, body.F, barrier->settings.d_hat);
+    for (Eigen::Index i = 0; i < n; ++i)
+      if (!released[size_t(i)]) out.x.row(i) = X.row(i);
+    const std::vector<char> still =
+        vertices_not_free_of(out.x, barrier->cloth_edges, body.V, body.F, barrier->settings.d_hat);
+    int back = 0;
+    for (Eigen::Index i = 0; i < n; ++i)
+      if (released[size_t(i)] && !still[size_t(i)]) {
+        excluded[size_t(i)] = released[size_t(i)] = 0;
+        ++back;
+      } else if (released[size_t(i)]) {
+        out.x.row(i) = X.row(i);
+      }
+    if (back == 0) return;
+    result.excluded -= back;
+    result.caught_by_body -= back;
+    q = free_coordinates(out.x, free, opts);
+    set_fallback();
+  };
   auto move_body = [&]() {
     const double left = body_left();
     if (left <= 0) return false;
@@ -558,30 +583,33 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
     // body would then be placed at its pose onto everything in its way: the vertices of the
     // pairs that allow less than kHeldBelow of the move leave barrier contact (caught by the
     // body, for the penalty term), and the move is certified again without them.
-    bool released = false;
+    bool released_now = false;
     for (int round = 0; round < kReleaseRounds && t < kHeldBelow; ++round) {
       const std::vector<char> holding =
           vertices_holding_step(X, D, barrier->cloth_edges, body, DB, candidates, kHeldBelow);
       int newly = 0;
       for (Eigen::Index i = 0; i < n; ++i)
         if (holding[size_t(i)] && free_flags[size_t(i)] && !excluded[size_t(i)]) {
-          excluded[size_t(i)] = 1;
+          if (released.empty()) released.assign(size_t(n), 0);
+          excluded[size_t(i)] = released[size_t(i)] = 1;
           ++newly;
         }
       if (newly == 0) break;
       result.excluded += newly;
       result.caught_by_body += newly;
-      released = true;
+      result.released += newly;
+      released_now = true;
       drop_pairs_of(excluded, barrier->cloth_edges, &candidates);
       t = max_safe_step(X, D, barrier->cloth_edges, body, DB, candidates);
     }
-    if (released) set_fallback();  // the objective changed: the caller evaluates it again
-    if (!(t > 0)) return released;
+    if (released_now) set_fallback();  // the objective changed: the caller evaluates it again
+    if (!(t > 0)) return released_now;
     // A full step lands exactly on the pose and the pins' targets (no rounding left over).
     const bool home = t >= 1 && share >= 1;
     body.V = home ? barrier->body_next : Eigen::MatrixXd(body.V + t * DB);
     move_pins(home ? pin_target : Eigen::MatrixXd(pin_now + t * DP));
     q = q + t * free_coordinates(D, free, opts);
+    if (home) readmit_released();
     return true;
   };
   while (nf > 0) {
@@ -745,11 +773,11 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
     drop_pairs_of(excluded, barrier->cloth_edges, &last);
     result.min_distance = barrier_potential(X, barrier->cloth_edges, body, last, settings).min_distance;
     spdlog::debug("barrier step: {} iterations, {} evaluations, {} candidate pairs last, min distance {:.3g} mm, "
-                  "body placed {:.3g} mm short, kappa {:.3g}, max strain {:.3g} ({} edges out of the strain barrier), "
+                  "{} released for the body's moves, body placed {:.3g} mm short, kappa {:.3g}, max strain {:.3g} ({} edges out of the strain barrier), "
                   "smallest area ratio {:.3g} ({} faces out of the area barrier), "
                   "stopped by {} (step {:.3g} mm, largest gradient {:.3g} N), {:.0f} ms",
                   result.iterations, result.evaluations, candidates.size(), 1e3 * result.min_distance,
-                  1e3 * result.body_lag, settings.stiffness, result.max_strain, result.strain_excluded,
+                  result.released, 1e3 * result.body_lag, settings.stiffness, result.max_strain, result.strain_excluded,
                   result.min_area_ratio, result.area_excluded,
                   stopped_by, 1e3 * step_norm, result.gradient_norm, ms_since(start_time));
   }

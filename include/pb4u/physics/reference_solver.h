@@ -37,6 +37,9 @@ struct SolverResult {
                              // holds them): no free place at the start (intersection_free_start.h),
   int caught_by_body = 0;    // or, of those, held by the body: pinched as it moved (left out so
                              // that it could move on) or cut or held by the body placed at its pose
+  int released = 0;          // vertices that held a body move back and left barrier contact so
+                             // that the body could move on (those the body, at its pose, left
+                             // room for rejoined it and are not in `excluded`)
   std::vector<char> excluded_vertices;  // per cloth vertex, 1 for those left out (empty: none)
   // Strain barrier only (solver.strain_limit > 0; 0 / 0 otherwise):
   double max_strain = 0;     // largest edge strain at x_next over the edges in the barrier
