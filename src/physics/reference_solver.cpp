@@ -31,8 +31,9 @@ namespace {
 
 // m: the longest move of a vertex (cloth or body) in one line search of the intersection-free solve.
 constexpr double kMaxContactStep = 5e-2;
-// CCD-certified body moves per step beyond the ones its motion needs at kMaxContactStep each
-// (a limb swinging 70 cm in a frame needs 14); a body not at its pose after them is placed there.
+// CCD-certified body moves per step (with solver.release_held_cloth: beyond the ones its motion
+// needs at kMaxContactStep each; a limb swinging 70 cm in a frame needs 14); a body not at its
+// pose after them is placed there.
 constexpr int kMaxBodyMoves = 24;
 // A body move that some cloth allows less than this fraction of is held back by it (pinched
 // between two body parts, or an edge dragged against a body edge it cannot pass); rounds of
@@ -198,10 +199,10 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
   // kinematic objects): each iteration first moves the body by what is left of it, the cloth it
   // touches carried along (carried_by_body.h), as far as CCD certifies; then one quasi-Newton
   // step of the cloth against the body where it stands. Where the cloth leaves the body no room
-  // (pinched between two body parts) the cloth that holds a move back leaves barrier contact
-  // and the body moves on; a body still short of its pose after the moves it is allowed is
-  // placed there, and the cloth it then cuts or holds leaves barrier contact too
-  // (SolverResult::caught_by_body counts both).
+  // (pinched between two body parts) a body still short of its pose after the moves it is
+  // allowed is placed there, and the cloth it then cuts or holds leaves barrier contact; with
+  // solver.release_held_cloth the cloth that holds a move back leaves it first and the body
+  // moves on (SolverResult::caught_by_body counts both).
   ContactSurface body;
   ContactCandidates candidates;
   BarrierSettings settings = barrier ? barrier->settings : BarrierSettings{};
@@ -543,7 +544,7 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
     const Eigen::MatrixXd X = positions(q);
     FeasibleStart out = intersection_free_start(X, X, barrier->cloth_edges, body.V, body.F, barrier->settings.d_hat);
     for (Eigen::Index i = 0; i < n; ++i)
-      if (!released[size_t(i)]) out.x.row(i) = X.row(i);
+      if (!released[size_t(i)] || !free_flags[size_t(i)]) out.x.row(i) = X.row(i);  // pins stay on their targets
     const std::vector<char> still =
         vertices_not_free_of(out.x, barrier->cloth_edges, body.V, body.F, barrier->settings.d_hat);
     int back = 0;
@@ -563,7 +564,8 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
   auto move_body = [&]() {
     const double left = body_left();
     if (left <= 0) return false;
-    if (body_moves == 0) moves_allowed = kMaxBodyMoves + int(std::ceil(left / kMaxContactStep));
+    if (body_moves == 0)
+      moves_allowed = kMaxBodyMoves + (config.release_held_cloth ? int(std::ceil(left / kMaxContactStep)) : 0);
     if (++body_moves > moves_allowed) {
       place_body(left);
       return true;
@@ -580,16 +582,17 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
     drop_pairs_of(excluded, barrier->cloth_edges, &candidates);
     double t = max_safe_step(X, D, barrier->cloth_edges, body, DB, candidates);
     // Cloth that holds the move back would stall the body for the rest of the step, and the
-    // body would then be placed at its pose onto everything in its way: the vertices of the
-    // pairs that allow less than kHeldBelow of the move leave barrier contact (caught by the
-    // body, for the penalty term), and the move is certified again without them.
+    // body would then be placed at its pose onto everything in its way. With
+    // solver.release_held_cloth the vertices of the pairs that allow less than kHeldBelow of
+    // the move leave barrier contact (caught by the body, for the penalty term), and the move
+    // is certified again without them.
     bool released_now = false;
-    for (int round = 0; round < kReleaseRounds && t < kHeldBelow; ++round) {
+    for (int round = 0; config.release_held_cloth && round < kReleaseRounds && t < kHeldBelow; ++round) {
       const std::vector<char> holding =
           vertices_holding_step(X, D, barrier->cloth_edges, body, DB, candidates, kHeldBelow);
       int newly = 0;
       for (Eigen::Index i = 0; i < n; ++i)
-        if (holding[size_t(i)] && free_flags[size_t(i)] && !excluded[size_t(i)]) {
+        if (holding[size_t(i)] && !excluded[size_t(i)]) {  // a pin too: it stays on its path, out of contact
           if (released.empty()) released.assign(size_t(n), 0);
           excluded[size_t(i)] = released[size_t(i)] = 1;
           ++newly;

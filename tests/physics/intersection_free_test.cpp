@@ -621,6 +621,42 @@ TEST(IntersectionFreeSolver, PinsRideWithTheBodyTheyAreHeldTo) {
   }
 }
 
+TEST(IntersectionFreeSolver, PinsTheBodyMovesIntoLeaveContactAndTheBodyGetsToItsPose) {
+  // The cloth of the test above hangs 5 mm behind the box, its top row pinned where it is; the
+  // box moves 3 cm into it. The pins cannot give way and hold the box's moves back: with
+  // solver.release_held_cloth they leave barrier contact (staying on their targets, inside the
+  // box) and the box gets to its pose, pushing the free cloth ahead of it.
+  TriMesh g = test::grid_mesh(6, 0.3);
+  Eigen::MatrixXd V(g.V.rows(), 3);
+  for (Eigen::Index i = 0; i < V.rows(); ++i) V.row(i) << -0.005, 0.05 + g.V(i, 0), g.V(i, 2) - 0.15;
+  g.V = V;
+  const ClothGeometry cloth = make_cloth_geometry(g);
+  const TriMesh box = test::box_mesh(Eigen::RowVector3d(0, 0, -0.25), Eigen::RowVector3d(0.1, 0.45, 0.25));
+  FrameState state = test::resting_state(test::positions_tensor(V));
+  state.effects.gravity = state.effects.collision = state.effects.friction = state.effects.pins = true;
+  state.body.faces = test::faces_tensor(box.F);
+  torch::Tensor pinned = torch::zeros({V.rows()}, torch::kBool);
+  int pins = 0;
+  for (Eigen::Index i = 0; i < V.rows(); ++i)
+    if (V(i, 1) > 0.349) pinned[i] = true, ++pins;
+  state.pinned = pinned;
+  state.pin_targets = test::positions_tensor(V);
+  Eigen::MatrixXd at_next = box.V;
+  at_next.col(0).array() -= 0.03;
+  state.body.vertices = test::positions_tensor(box.V);
+  state.body.next_vertices = test::positions_tensor(at_next);
+  PhysicsConfig config = barrier_config();
+  config.solver.release_held_cloth = true;
+  const SolverResult r = barrier_step(state, cloth, config);
+  EXPECT_EQ(r.body_lag, 0);
+  EXPECT_GE(r.released, 1);
+  EXPECT_LE(r.excluded, r.released);  // nothing else left contact
+  const Eigen::MatrixXd x = tensor_to_matrix(state.x);
+  for (Eigen::Index i = 0; i < V.rows(); ++i)
+    if (pinned[i].item<bool>()) ASSERT_LT((x.row(i) - V.row(i)).norm(), 1e-12) << i;
+  EXPECT_LT(x.col(0).minCoeff(), -0.03);  // the free cloth went ahead of the box's face
+}
+
 TEST(RefinedStep, AnyIterationCountEndsFreeOfTheBodyAndMoreIterationsNeverRaiseThePotential) {
   // A stand-in for the network: the ballistic step pushed 2 cm down, into the sphere the cloth
   // falls on (it starts 5 mm over it).
@@ -804,25 +840,38 @@ struct PlatesClosingOnCloth {
   }
 };
 
-TEST(IntersectionFreeSolver, ClothPinchedByABodyClosingOnItselfLeavesContactAndTheBodyMovesOn) {
-  // Plates as wide as the cloth. The cloth that holds the upper plate back leaves barrier
-  // contact as the plate comes down, and the plate gets to its pose (through the lower one)
-  // instead of being placed there after its moves run out. There the cloth is pushed out of
-  // both, above them, and rejoins barrier contact.
+TEST(IntersectionFreeSolver, ClothPinchedByABodyClosingOnItselfIsReportedNotStuck) {
+  // Plates as wide as the cloth: no intersection-free place is left while the upper plate
+  // comes down. By default the plate is placed at its pose after its moves and the cloth it
+  // then holds leaves barrier contact. With solver.release_held_cloth the cloth that holds the
+  // plate back leaves contact as it comes down, the plate gets to its pose (through the lower
+  // one), and there the cloth is pushed out of both, above them, and rejoins barrier contact.
   PlatesClosingOnCloth scene(4, 0.5);
   const ClothGeometry& cloth = scene.cloth;
   FrameState& state = scene.state;
-  const PhysicsConfig config = barrier_config();
-  const TermList terms = build_terms(state.effects, config);
-  const SolverResult r = solve_reference_frame(state, cloth, terms, config);
-  EXPECT_LE(r.iterations, config.solver.max_iterations);
-  EXPECT_TRUE(torch::isfinite(r.x_next).all().item<bool>());
-  EXPECT_GT(r.released, 0);  // the cloth the plates close on left barrier contact...
-  EXPECT_EQ(r.body_lag, 0);  // ...the body reached its pose...
-  EXPECT_EQ(r.excluded, 0);  // ...and all of it came back, free of the body
-  const Freedom f = freedom(tensor_to_matrix(r.x_next), unique_edges(scene.g.F), scene.body_next, scene.body_F);
-  EXPECT_GT(f.min_distance, 0);
-  EXPECT_EQ(f.edges_through, 0);
+  for (const bool release : {false, true}) {
+    SCOPED_TRACE(release ? "released" : "placed");
+    PhysicsConfig config = barrier_config();
+    config.solver.release_held_cloth = release;
+    const TermList terms = build_terms(state.effects, config);
+    const SolverResult r = solve_reference_frame(state, cloth, terms, config);
+    EXPECT_LE(r.iterations, config.solver.max_iterations);
+    EXPECT_TRUE(torch::isfinite(r.x_next).all().item<bool>());
+    if (!release) {
+      EXPECT_GT(r.caught_by_body, 0);           // the cloth the plates close on leaves barrier contact...
+      EXPECT_EQ(r.excluded, r.caught_by_body);  // ...and only that (the start was free)
+      EXPECT_GT(r.body_lag, 0);                 // the body was placed at its pose, not reached
+      EXPECT_LT(r.body_lag, 0.02 + 1e-12);
+      EXPECT_EQ(r.released, 0);
+    } else {
+      EXPECT_GT(r.released, 0);  // the cloth the plates close on left barrier contact...
+      EXPECT_EQ(r.body_lag, 0);  // ...the body reached its pose...
+      EXPECT_EQ(r.excluded, 0);  // ...and all of it came back, free of the body
+      const Freedom f = freedom(tensor_to_matrix(r.x_next), unique_edges(scene.g.F), scene.body_next, scene.body_F);
+      EXPECT_GT(f.min_distance, 0);
+      EXPECT_EQ(f.edges_through, 0);
+    }
+  }
 }
 
 // A sphere (r = 0.1 m) that moves 2 m in one step, to where a 10 cm patch of cloth lies (inside
@@ -849,10 +898,11 @@ struct SphereMovingOntoAPatch {
 };
 
 TEST(IntersectionFreeSolver, ABodyMovingFartherThanItsMovesCoverInOneGoGetsThereWithTheClothOutsideIt) {
-  // 2 m takes 40 moves: the body is allowed those and 24 more, so it reaches its pose, the patch
-  // pushed out of its way (over it), and nothing is caught.
+  // 2 m takes 40 moves: with solver.release_held_cloth the body is allowed those and 24 more,
+  // so it reaches its pose, the patch pushed out of its way (over it), and nothing is caught.
   SphereMovingOntoAPatch scene;
   PhysicsConfig config = barrier_config();
+  config.solver.release_held_cloth = true;
   config.solver.barrier_keeps_penalty = false;
   const TermList terms = build_terms(scene.state.effects, config);
   const SolverResult r = solve_reference_frame(scene.state, scene.cloth, terms, config);
