@@ -67,52 +67,63 @@ BarrierValue barrier_potential(const Eigen::MatrixXd& x, const Eigen::MatrixXi& 
   return out;
 }
 
-double max_safe_step(const Eigen::MatrixXd& x, const Eigen::MatrixXd& dx, const Eigen::MatrixXi& cloth_edges,
-                     const ContactSurface& body, const Eigen::MatrixXd& body_motion,
-                     const ContactCandidates& candidates) {
+namespace {
+
+// Additive CCD of each candidate pair over the step (cloth by dx, body by body_motion, either
+// empty: still), up to options.t_max, which `visit` may lower as it goes: visit(t, cloth points,
+// how many of them) returns false to stop.
+template <typename Visit>
+void for_each_pair_impact(const Eigen::MatrixXd& x, const Eigen::MatrixXd& dx, const Eigen::MatrixXi& cloth_edges,
+                          const ContactSurface& body, const Eigen::MatrixXd& body_motion,
+                          const ContactCandidates& candidates, AdditiveCcdOptions& options, Visit visit) {
   const Eigen::Vector3d zero = Eigen::Vector3d::Zero();
   auto cloth_step = [&](int i) { return dx.rows() ? point_row(dx, i) : zero; };
   auto body_step = [&](int j) { return body_motion.rows() ? point_row(body_motion, j) : zero; };
-  AdditiveCcdOptions options;
   for (const auto& [v, f] : candidates.vertex_face) {
     const int a = body.F(f, 0), b = body.F(f, 1), c = body.F(f, 2);
-    options.t_max = std::min(options.t_max,
-                             point_triangle_ccd(point_row(x, v), point_row(body.V, a), point_row(body.V, b), point_row(body.V, c),
-                                                cloth_step(v), body_step(a), body_step(b), body_step(c), options));
-    if (options.t_max <= 0) return 0;
+    const int points[2] = {v, v};
+    if (!visit(point_triangle_ccd(point_row(x, v), point_row(body.V, a), point_row(body.V, b), point_row(body.V, c),
+                                  cloth_step(v), body_step(a), body_step(b), body_step(c), options),
+               points, 1))
+      return;
   }
   for (const auto& [e, be] : candidates.edge_edge) {
     const int a = cloth_edges(e, 0), b = cloth_edges(e, 1), c = body.E(be, 0), d = body.E(be, 1);
-    options.t_max = std::min(options.t_max,
-                             edge_edge_ccd(point_row(x, a), point_row(x, b), point_row(body.V, c), point_row(body.V, d), cloth_step(a),
-                                           cloth_step(b), body_step(c), body_step(d), options));
-    if (options.t_max <= 0) return 0;
+    const int points[2] = {a, b};
+    if (!visit(edge_edge_ccd(point_row(x, a), point_row(x, b), point_row(body.V, c), point_row(body.V, d),
+                             cloth_step(a), cloth_step(b), body_step(c), body_step(d), options),
+               points, 2))
+      return;
   }
-  return options.t_max;
+}
+
+}  // namespace
+
+double max_safe_step(const Eigen::MatrixXd& x, const Eigen::MatrixXd& dx, const Eigen::MatrixXi& cloth_edges,
+                     const ContactSurface& body, const Eigen::MatrixXd& body_motion,
+                     const ContactCandidates& candidates) {
+  AdditiveCcdOptions options;
+  for_each_pair_impact(x, dx, cloth_edges, body, body_motion, candidates, options,
+                       [&](double t, const int*, int) {
+                         options.t_max = std::min(options.t_max, t);
+                         return options.t_max > 0;
+                       });
+  return std::max(options.t_max, 0.0);
 }
 
 std::vector<char> vertices_holding_step(const Eigen::MatrixXd& x, const Eigen::MatrixXd& dx,
                                         const Eigen::MatrixXi& cloth_edges, const ContactSurface& body,
                                         const Eigen::MatrixXd& body_motion, const ContactCandidates& candidates,
                                         double below) {
-  const Eigen::Vector3d zero = Eigen::Vector3d::Zero();
-  auto cloth_step = [&](int i) { return dx.rows() ? point_row(dx, i) : zero; };
-  auto body_step = [&](int j) { return body_motion.rows() ? point_row(body_motion, j) : zero; };
   AdditiveCcdOptions options;
   options.t_max = below;  // a pair is only followed as far as `below`
   std::vector<char> out(size_t(x.rows()), 0);
-  for (const auto& [v, f] : candidates.vertex_face) {
-    const int a = body.F(f, 0), b = body.F(f, 1), c = body.F(f, 2);
-    if (point_triangle_ccd(point_row(x, v), point_row(body.V, a), point_row(body.V, b), point_row(body.V, c),
-                           cloth_step(v), body_step(a), body_step(b), body_step(c), options) < below)
-      out[size_t(v)] = 1;
-  }
-  for (const auto& [e, be] : candidates.edge_edge) {
-    const int a = cloth_edges(e, 0), b = cloth_edges(e, 1), c = body.E(be, 0), d = body.E(be, 1);
-    if (edge_edge_ccd(point_row(x, a), point_row(x, b), point_row(body.V, c), point_row(body.V, d), cloth_step(a),
-                      cloth_step(b), body_step(c), body_step(d), options) < below)
-      out[size_t(a)] = out[size_t(b)] = 1;
-  }
+  for_each_pair_impact(x, dx, cloth_edges, body, body_motion, candidates, options,
+                       [&](double t, const int* points, int count) {
+                         if (t < below)
+                           for (int i = 0; i < count; ++i) out[size_t(points[i])] = 1;
+                         return true;
+                       });
   return out;
 }
 

@@ -505,16 +505,20 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
   // no room and that no release freed) it is placed there; the cloth it
   // now cuts or holds (pushed out of it first as a start is, with solver.push_out_caught) leaves
   // barrier contact for the penalty term (SolverResult::excluded).
+  // The cloth pushed out of the body where it stands, as a start is (intersection_free_start):
+  // the rows `moved` selects (empty: every vertex); pins stay on their targets.
+  auto pushed_out_of_body = [&](const std::vector<char>& moved) {
+    const Eigen::MatrixXd X = positions(q);
+    Eigen::MatrixXd out = intersection_free_start(X, X, barrier->cloth_edges, body.V, body.F, barrier->settings.d_hat).x;
+    for (Eigen::Index i = 0; i < n; ++i)
+      if (!free_flags[size_t(i)] || (!moved.empty() && !moved[size_t(i)])) out.row(i) = X.row(i);
+    return out;
+  };
   auto place_body = [&](double left) {
     body.V = barrier->body_next;
     move_pins(pin_target);
-    if (config.push_out_caught) {  // the cloth the placed body now cuts or holds pushed out of it first
-      const Eigen::MatrixXd X = positions(q);
-      FeasibleStart out = intersection_free_start(X, X, barrier->cloth_edges, body.V, body.F, barrier->settings.d_hat);
-      for (Eigen::Index i = 0; i < n; ++i)
-        if (!free_flags[size_t(i)]) out.x.row(i) = X.row(i);
-      q = free_coordinates(out.x, free, opts);
-    }
+    if (config.push_out_caught)  // the cloth the placed body now cuts or holds pushed out of it first
+      q = free_coordinates(pushed_out_of_body({}), free, opts);
     const std::vector<char> caught =
         vertices_not_free_of(positions(q), barrier->cloth_edges, body.V, body.F, barrier->settings.d_hat);
     for (size_t i = 0; i < caught.size(); ++i)
@@ -542,23 +546,20 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
   auto readmit_released = [&]() {
     if (released.empty()) return;
     const Eigen::MatrixXd X = positions(q);
-    FeasibleStart out = intersection_free_start(X, X, barrier->cloth_edges, body.V, body.F, barrier->settings.d_hat);
-    for (Eigen::Index i = 0; i < n; ++i)
-      if (!released[size_t(i)] || !free_flags[size_t(i)]) out.x.row(i) = X.row(i);  // pins stay on their targets
-    const std::vector<char> still =
-        vertices_not_free_of(out.x, barrier->cloth_edges, body.V, body.F, barrier->settings.d_hat);
+    Eigen::MatrixXd out = pushed_out_of_body(released);
+    const std::vector<char> still = vertices_not_free_of(out, barrier->cloth_edges, body.V, body.F, barrier->settings.d_hat);
     int back = 0;
     for (Eigen::Index i = 0; i < n; ++i)
       if (released[size_t(i)] && !still[size_t(i)]) {
         excluded[size_t(i)] = released[size_t(i)] = 0;
         ++back;
       } else if (released[size_t(i)]) {
-        out.x.row(i) = X.row(i);
+        out.row(i) = X.row(i);
       }
     if (back == 0) return;
     result.excluded -= back;
     result.caught_by_body -= back;
-    q = free_coordinates(out.x, free, opts);
+    q = free_coordinates(out, free, opts);
     set_fallback();
   };
   auto move_body = [&]() {
