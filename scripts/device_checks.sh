@@ -12,12 +12,15 @@
 #      blocks: quick 64 x 4, mid 96 x 8, paper 128 x 15), N steps each, the three at once on the
 #      device while the rest of the suite runs on the CPU; their last three checkpoints are
 #      exported (model files) into DIR/capacity_*.tgz (the paper size's newest two beside them, 16 MB
-#      each) for scripts/rank_models.sh.
+#      each) for scripts/rank_models.sh; with --capacity-resumable, each run's directory with its
+#      newest training checkpoint instead (DIR/capacity_NAME.tar.partNN, 15 MiB pieces: the paper
+#      size's is 49 MB with Adam's state), to go on with `train --resume` elsewhere:
+#        cat capacity_paper.tar.part* | tar -x -C runs/   # then: train ... --out runs/capacity_paper --resume
 #
 #   scripts/device_checks.sh [--out DIR] [--budget SECONDS] [--jobs N] [--skip-build]
 #                            [--device D] [--triangles "N ..."] [--train-steps "QUICK PAPER"]
 #                            [--capacity-steps N] [--capacity-sizes "NAME ..."]
-#                            [--capacity-set KEY=VALUE ...] [--skip-timings]
+#                            [--capacity-set KEY=VALUE ...] [--capacity-resumable] [--skip-timings]
 #
 #   --budget SECONDS  phases that would start with too little of it left are skipped (default 540)
 #   --skip-build      use an existing build-cuda/ (PB4U=path overrides the binary)
@@ -29,6 +32,8 @@
 #   --capacity-sizes  which of quick, mid, paper (default all three)
 #   --capacity-set    a training config override for every capacity run (repeatable), e.g.
 #                     physics.collision.hold_steps=250 for a recipe compressed to fit the budget
+#   --capacity-resumable  bring back each run's directory and newest checkpoint, not model files;
+#                     the logs come back as DIR/logs.tgz (at most 8 files come back from a device)
 #   --skip-timings    no training speed, profile or Table 3 (phases 2-3): when the network's code
 #                     has not changed since their last figures, the budget goes to capacity
 # Needs device_bundle/debs (scripts/device_bundle.sh) and data/generated/quick/quick.h5 carried
@@ -37,7 +42,7 @@ set -uo pipefail
 cd "$(dirname "$0")/.."
 root=$PWD
 out=${OUT:-runs/device} budget=540 jobs=$(nproc) build_step=1 device=cuda triangles="12000 25000 48000" steps="300 100" capacity_steps=0
-timings=1 capacity_names="quick mid paper" capacity_sets=()
+timings=1 capacity_names="quick mid paper" capacity_sets=() resumable=0
 while [ $# -gt 0 ]; do
   case "$1" in
     --out) out=$2; shift ;;
@@ -51,6 +56,7 @@ while [ $# -gt 0 ]; do
     --capacity-sizes) capacity_names=$2; shift ;;
     --capacity-set) capacity_sets+=(--set "$2"); shift ;;
     --skip-timings) timings=0 ;;
+    --capacity-resumable) resumable=1 ;;
     -h|--help) awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next } NR > 1 { exit }' "$0"; exit 0 ;;
     *) echo "device_checks: unknown argument '$1' (see --help)" >&2; exit 2 ;;
   esac
@@ -217,6 +223,14 @@ if [ "$capacity_steps" -gt 0 ]; then
     read -r rc seconds 2>/dev/null <"$dir.done" || { rc=killed; seconds=$SECONDS; }
     reached=$(grep -c '"step"' "$dir/metrics.jsonl" 2>/dev/null)
     say "capacity $name ($latent x $blocks): exit $rc, ${reached:-0} steps in $seconds s"
+    if [ "$resumable" = 1 ]; then  # the run directory with its newest checkpoint, in pieces
+      newest=$(ls "$dir"/checkpoints/step_*.pt 2>/dev/null | tail -n 1)
+      [ -n "$newest" ] || { say "capacity $name: no checkpoint written"; continue; }
+      say "capacity $name: brought back $(basename "$newest") as capacity_$name.tar.part*"
+      tar -C /tmp -cf - "capacity_$name/config.yaml" "capacity_$name/metrics.jsonl" \
+        "capacity_$name/checkpoints/$(basename "$newest")" | split -b 15M -d - "$out/capacity_$name.tar.part"
+      continue
+    fi
     mkdir -p "$dir/export"
     for ckpt in "$dir"/checkpoints/step_*.pt; do
       [ -f "$ckpt" ] && "$pb4u" -q export --checkpoint "$ckpt" --out "$dir/export/${name}_$(basename "$ckpt" .pt).h5" >/dev/null 2>&1
@@ -231,4 +245,5 @@ if [ "$capacity_steps" -gt 0 ]; then
     tar -C "$dir/export" -czf "$out/capacity_$name.tgz" .
   done
 fi
+if [ "$resumable" = 1 ]; then tar -C "$out" -czf "$out/logs.tgz" logs && rm -rf "$out/logs"; fi
 say "done in $SECONDS s"
