@@ -1,6 +1,5 @@
 #include "pb4u/physics/reference_solver.h"
 
-#include <Eigen/SparseCholesky>
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
@@ -11,6 +10,7 @@
 
 #include "pb4u/mesh/edges.h"
 #include "pb4u/physics/barrier_objective.h"
+#include "pb4u/physics/barrier_start.h"
 #include "pb4u/physics/area_barrier.h"
 #include "pb4u/physics/bending_energy.h"
 #include "pb4u/physics/body_offset.h"
@@ -18,9 +18,9 @@
 #include "pb4u/physics/collision_energy.h"
 #include "pb4u/physics/coordinate_hessian.h"
 #include "pb4u/physics/elastic_hessian.h"
+#include "pb4u/physics/elastic_solve.h"
 #include "pb4u/physics/energy_report.h"
 #include "pb4u/physics/intersection_free_start.h"
-#include "pb4u/physics/quasi_newton_hessian.h"
 #include "pb4u/physics/strain_barrier.h"
 #include "pb4u/util/eigen_tensor.h"
 #include "pb4u/util/error.h"
@@ -73,59 +73,6 @@ torch::Tensor lbfgs_direction(const torch::Tensor& g, const std::deque<Pair>& hi
   }
   return -r;
 }
-
-// The elastic initial Hessian: the per-frame part (inertia + membrane) plus the contacts'
-// current curvature, refactorised only when contacts change it. Shared by x, y and z (k x k),
-// or, with the barriers' Hessian blocks, on the coordinates (3k x 3k, coordinate_hessian.h).
-struct ElasticSolve {
-  Eigen::SparseMatrix<double> base;
-  std::vector<int> row_of_vertex;
-  bool coordinates = false;
-  CoordinateHessian hessian;  // coordinates only: what the contacts (and a Newton step) add to base
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt;
-  std::vector<int> pattern_outer, pattern_inner;  // of the last analysed coordinate Hessian
-
-  void factorize(const torch::Tensor& contact_diagonal) {
-    Eigen::VectorXd diagonal;
-    if (contact_diagonal.defined()) {
-      torch::Tensor c = contact_diagonal.detach().to(torch::kCPU, torch::kFloat64).contiguous();
-      diagonal = Eigen::Map<const Eigen::VectorXd>(c.data_ptr<double>(), c.numel());
-    }
-    if (coordinates) {
-      add_shared(base, diagonal, row_of_vertex, &hessian);
-      const Eigen::SparseMatrix<double> H = hessian.matrix(row_of_vertex);
-      // The ordering is redone only when the pattern changed (a Newton step's elastic pattern
-      // stays; contact pairs only add blocks where cloth vertices already share a face).
-      const bool same = pattern_outer.size() == size_t(H.outerSize() + 1) &&
-                        std::equal(pattern_outer.begin(), pattern_outer.end(), H.outerIndexPtr()) &&
-                        pattern_inner.size() == size_t(H.nonZeros()) &&
-                        std::equal(pattern_inner.begin(), pattern_inner.end(), H.innerIndexPtr());
-      if (!same) {
-        ldlt.analyzePattern(H);
-        pattern_outer.assign(H.outerIndexPtr(), H.outerIndexPtr() + H.outerSize() + 1);
-        pattern_inner.assign(H.innerIndexPtr(), H.innerIndexPtr() + H.nonZeros());
-      }
-      ldlt.factorize(H);
-    } else {
-      Eigen::SparseMatrix<double> H = base;
-      if (diagonal.size()) H.diagonal() += diagonal;
-      ldlt.factorize(H);
-    }
-    if (ldlt.info() != Eigen::Success)
-      throw Error("reference solver: the elastic initial Hessian is not positive definite");
-  }
-  torch::Tensor operator()(const torch::Tensor& r) const {
-    torch::Tensor c = r.detach().to(torch::kCPU, torch::kFloat64).contiguous();
-    const Eigen::Index k = c.numel() / 3;
-    if (coordinates) {
-      Eigen::VectorXd X = ldlt.solve(Eigen::Map<const Eigen::VectorXd>(c.data_ptr<double>(), 3 * k));
-      return torch::from_blob(X.data(), {k * 3}, torch::kFloat64).to(r.options()).clone();
-    }
-    Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>> R(c.data_ptr<double>(), k, 3);
-    Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> X = ldlt.solve(R);
-    return torch::from_blob(X.data(), {k * 3}, torch::kFloat64).to(r.options()).clone();
-  }
-};
 
 }  // namespace
 
@@ -220,80 +167,32 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
   if (barrier) {
     // From the cloth at t towards x_base against the body at t (the solver's own start, and a
     // given step swept), or from the given step itself against the body at t + dt.
-    struct Start {
-      bool at_next = false;
-      FeasibleStart feasible;
-      std::vector<int64_t> pin_rows;
-      Eigen::MatrixXd pin_now, pin_target;
-    };
-    auto make_start = [&](bool at_next) {
-      Start s;
-      s.at_next = at_next;
-      Eigen::MatrixXd from = tensor_to_matrix(at_next ? x_base : state.x), to = tensor_to_matrix(x_base);
-      if (!at_next)
-        for (int64_t i = 0; i < n; ++i)
-          if (pinned_flags[size_t(i)]) s.pin_rows.push_back(i);
-      s.pin_now.resize(Eigen::Index(s.pin_rows.size()), 3);
-      s.pin_target.resize(Eigen::Index(s.pin_rows.size()), 3);
-      for (size_t j = 0; j < s.pin_rows.size(); ++j) {
-        s.pin_target.row(Eigen::Index(j)) = to.row(s.pin_rows[j]);
-        s.pin_now.row(Eigen::Index(j)) = to.row(s.pin_rows[j]) = from.row(s.pin_rows[j]);
-      }
-      s.feasible = intersection_free_start(from, to, barrier->cloth_edges, at_next ? barrier->body_next : barrier->body_t,
-                                           barrier->body_faces, barrier->settings.d_hat);
-      for (size_t j = 0; j < s.pin_rows.size(); ++j)
-        s.feasible.x.row(s.pin_rows[j]) = s.pin_now.row(Eigen::Index(j));  // no pin moved
-      spdlog::debug("barrier start{}: {} pushed out, {} excluded, target reached {:.3f}, {:.0f} ms",
-                    at_next ? " at the given step" : "", s.feasible.pushed_out, s.feasible.excluded_count,
-                    s.feasible.target_progress, ms_since(start_time));
-      return s;
-    };
     using GivenStart = BarrierStepInput::GivenStart;
-    Start chosen = make_start(x_start && barrier->given_start != GivenStart::swept);
-    if (x_start && barrier->given_start == GivenStart::fewer_left_out && chosen.feasible.excluded_count > 0) {
-      Start swept = make_start(false);
-      if (swept.feasible.excluded_count < chosen.feasible.excluded_count) chosen = std::move(swept);
+    const Eigen::MatrixXd x_t = tensor_to_matrix(state.x), target = tensor_to_matrix(x_base);
+    auto make_start = [&](bool at_next) {
+      return barrier_start(x_t, target, pinned_flags, at_next, barrier->cloth_edges,
+                           at_next ? barrier->body_next : barrier->body_t, barrier->body_faces, barrier->settings.d_hat);
+    };
+    BarrierStart start = make_start(x_start && barrier->given_start != GivenStart::swept);
+    if (x_start && barrier->given_start == GivenStart::fewer_left_out && start.excluded_count > 0) {
+      BarrierStart swept = make_start(false);
+      if (swept.excluded_count < start.excluded_count) start = std::move(swept);
     }
-    result.swept_start = x_start && !chosen.at_next;
-    pin_rows = std::move(chosen.pin_rows);
-    pin_now = std::move(chosen.pin_now);
-    pin_target = std::move(chosen.pin_target);
-    pin_index = torch::tensor(pin_rows, torch::kInt64).to(state.x.device());
-    body_start = chosen.at_next ? &barrier->body_next : &barrier->body_t;
-    FeasibleStart start = std::move(chosen.feasible);
+    spdlog::debug("barrier start chosen after {:.0f} ms", ms_since(start_time));
+    result.swept_start = x_start && !start.at_next;
+    body_start = start.at_next ? &barrier->body_next : &barrier->body_t;
     result.pushed_out = start.pushed_out;
+    if (strain)  // the pushes out of the body stretch edges: the start within both barriers
+      limit_start_strain(start, strain_edges, rest_length, config.strain_limit,
+                         std::max(0.0, config.strain_limit - 0.5 * config.strain_barrier_gap), pinned_flags,
+                         barrier->cloth_edges, *body_start, barrier->body_faces, barrier->settings.d_hat, kStartRounds);
     result.excluded = start.excluded_count;
-    excluded = std::move(start.excluded);
+    excluded = start.excluded;
+    pin_rows = std::move(start.pin_rows);
+    pin_now = std::move(start.pin_now);
+    pin_target = std::move(start.pin_target);
+    pin_index = torch::tensor(pin_rows, torch::kInt64).to(state.x.device());
     body = make_contact_surface(*body_start, barrier->body_faces);
-    if (strain) {
-      // The pushes out of the body stretch edges. Alternating projections onto the two sets:
-      // Provot (pins held), then out of the body again, until no edge is past the limit or
-      // kStartRounds are spent. The last pass is the body's, so contact keeps its guarantee;
-      // edges still past the limit leave the strain barrier.
-      const double inside = std::max(0.0, config.strain_limit - 0.5 * config.strain_barrier_gap);
-      // What a start leaves out of either barrier; the rounds keep the best start they reach.
-      auto left_out = [&](const Eigen::MatrixXd& X, const std::vector<char>& out) {
-        const std::vector<char> over = edges_over_strain(X, strain_edges, rest_length, config.strain_limit);
-        return std::count(over.begin(), over.end(), 1) + std::count(out.begin(), out.end(), 1);
-      };
-      Eigen::MatrixXd X = start.x;
-      std::vector<char> out = excluded;
-      auto best = left_out(X, out);
-      for (int round = 0; round < kStartRounds && best > 0; ++round) {
-        const Eigen::MatrixXd shortened = shorten_overstretched_edges(X, strain_edges, rest_length, inside, pinned_flags);
-        FeasibleStart again = intersection_free_start(shortened, shortened, barrier->cloth_edges, *body_start,
-                                                      barrier->body_faces, barrier->settings.d_hat);
-        X = std::move(again.x);
-        out = std::move(again.excluded);
-        const auto now = left_out(X, out);
-        if (now < best) {
-          best = now;
-          start.x = X;
-          excluded = out;
-        }
-      }
-      result.excluded = int(std::count(excluded.begin(), excluded.end(), 1));
-    }
     x_base = matrix_to_tensor(start.x, opts.dtype().toScalarType(), state.x.device());
     candidates = contact_candidates(start.x, {}, barrier->cloth_edges, body, {}, barrier->settings.d_hat);
     drop_pairs_of(excluded, barrier->cloth_edges, &candidates);
@@ -384,30 +283,12 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
     torch::Tensor free_cpu = free.to(torch::kCPU);
     for (int64_t k = 0; k < nf; ++k) row[free_cpu[k].item<int64_t>()] = static_cast<int>(k);
   }
-  if (newton) {
-    // The inertia M / dt^2 (a massless vertex: 1 N/m, as in quasi_newton_hessian.h); the
-    // elastic terms' Hessian at the current state joins it every iteration.
-    const torch::Tensor mass = cloth.vertex_masses(state.material.density).to(torch::kCPU, torch::kFloat64).contiguous();
-    std::vector<Eigen::Triplet<double>> inertia;
-    for (int64_t v = 0; v < n; ++v)
-      if (row[size_t(v)] >= 0) {
-        const double mv = mass.data_ptr<double>()[v];
-        inertia.emplace_back(row[size_t(v)], row[size_t(v)], mv > 0 ? mv / (state.dt * state.dt) : 1.0);
-      }
-    elastic = std::make_shared<ElasticSolve>();
-    elastic->base.resize(nf, nf);
-    elastic->base.setFromTriplets(inertia.begin(), inertia.end());
-    elastic->row_of_vertex = row;
-    elastic->coordinates = true;
-    elastic->hessian = CoordinateHessian(int(n));
+  if (newton) {  // the elastic terms' Hessian at the current state joins the inertia every iteration
+    elastic = newton_elastic_solve(cloth.vertex_masses(state.material.density), state.dt, row, nf);
     initial = [elastic](const torch::Tensor& r, const std::deque<Pair>&) { return (*elastic)(r); };
   } else if (config.initial_hessian == "elastic") {
-    elastic = std::make_shared<ElasticSolve>();
-    elastic->base = quasi_newton_hessian(cloth, state.material, state.dt, row);
-    elastic->row_of_vertex = row;
-    elastic->coordinates = (barrier || strain || area) && config.barrier_hessian == "blocks";
-    elastic->hessian = CoordinateHessian(int(n));
-    if (!elastic->coordinates) elastic->ldlt.analyzePattern(elastic->base);
+    elastic = quasi_newton_elastic_solve(cloth, state.material, state.dt, row,
+                                         (barrier || strain || area) && config.barrier_hessian == "blocks");
     initial = [elastic](const torch::Tensor& r, const std::deque<Pair>&) { return (*elastic)(r); };
   } else {
     // Scaled by the newest curvature pair, as in standard L-BFGS.
