@@ -3,7 +3,7 @@
 
 Usage: rank_table.py RUN:MEMBER:VARIANT:DIR ... [--reference DIR] [--json FILE]
 
-DIR holds one model file's probes: step.json and unseen.json (pb4u evaluate --format json),
+DIR holds one model file's probes: step.json, unseen.json and skirt.json (pb4u evaluate --format json),
 walk/ and hang/ (pb4u simulate: energies.csv, requested_frames). Standard library only.
 """
 import csv
@@ -22,10 +22,11 @@ COLUMNS = [
     ("unseen_1", "run_1 Lv.1: E+ J", "{:.4f}"),
     ("unseen_1_inside", "run_1 Lv.1: inside max %", "{:.2f}"),
     ("unseen_finest", "run_1 finest: E+ J", "{:.4f}"),
+    ("skirt", "skirt run_1 Lv.1: E+ J", "{:.4f}"),
     ("score", "score", "{:.4f}"),
 ]
 # The probes whose positive energies make the score (geometric mean).
-SCORED = ("step", "walk", "hang", "unseen_1", "unseen_finest")
+SCORED = ("step", "walk", "hang", "unseen_1", "unseen_finest", "skirt")
 
 
 def only_method(level):
@@ -84,6 +85,10 @@ def read_probes(directory, reference=False):
             out["unseen_1_inside"] = 100 * m.get("max_penetrating_fraction", math.nan)
         if m.get("diverged"):
             out["diverged"].append("run_1 Lv.%d" % level["level"])
+    skirt = only_method(json.load(open(directory + "/skirt.json"))["levels"][0])
+    out["skirt"] = sum(skirt.get(k, 0.0) for k in POSITIVE)
+    if skirt.get("diverged"):
+        out["diverged"].append("skirt")
     scored = [out.get(k, math.nan) for k in SCORED if not (reference and k == "unseen_finest")]
     finite = all(math.isfinite(v) and v > 0 for v in scored)
     out["score"] = math.exp(sum(math.log(v) for v in scored) / len(scored)) if finite else math.nan
@@ -148,7 +153,7 @@ def main(argv):
         lines.append("")
         lines.append("Each run's mean over its checkpoints as a multiple of the reference solver:")
         lines.append("")
-        ratio_columns = [c for c in COLUMNS if c[0] in ("step_stretch", "step_collision", "walk", "hang", "unseen_1")]
+        ratio_columns = [c for c in COLUMNS if c[0] in ("step_stretch", "step_collision", "walk", "hang", "unseen_1", "skirt")]
         lines.append("| run | variant | " + " | ".join(c[1] for c in ratio_columns) + " |")
         lines.append("|---|---|" + "---|" * len(ratio_columns))
         for key in order:
