@@ -226,10 +226,16 @@ IncrementalPotentialSolve::IncrementalPotentialSolve(const FrameState& state_, c
   // The vertices out of barrier contact (the start found them no free place, or the placed body
   // caught them) fall back to the penalty term (SPEC 3.3) until a later step frees them.
   set_fallback();
+  // Per vertex: free or held, and its row among the free coordinates (-1 when held).
   free_flags.assign(size_t(n), 0);
+  row.assign(size_t(n), -1);
   {
     const torch::Tensor free_cpu = free.to(torch::kCPU).contiguous();
-    for (int64_t k = 0; k < nf; ++k) free_flags[size_t(free_cpu.data_ptr<int64_t>()[k])] = 1;
+    const int64_t* index = free_cpu.data_ptr<int64_t>();
+    for (int64_t k = 0; k < nf; ++k) {
+      free_flags[size_t(index[k])] = 1;
+      row[size_t(index[k])] = static_cast<int>(k);
+    }
   }
   make_inverse_hessian();
   pick_start();
@@ -336,11 +342,6 @@ void IncrementalPotentialSolve::make_inverse_hessian() {
   torch::Tensor P = torch::where(m > 0, (state.dt * state.dt) / m, torch::ones_like(m))
                         .repeat_interleave(3).to(opts);
   newton = config.step == "newton" || (config.step == "auto" && barrier);
-  row.assign(size_t(n), -1);
-  {
-    torch::Tensor free_cpu = free.to(torch::kCPU);
-    for (int64_t k = 0; k < nf; ++k) row[free_cpu[k].item<int64_t>()] = static_cast<int>(k);
-  }
   if (newton) {  // the elastic terms' Hessian at the current state joins the inertia every iteration
     elastic = newton_elastic_solve(cloth.vertex_masses(state.material.density), state.dt, row, nf);
     initial = [e = elastic](const torch::Tensor& r, const std::deque<Pair>&) { return (*e)(r); };
