@@ -1,6 +1,9 @@
 #include "pb4u/physics/elastic_solve.h"
 
+#include <spdlog/spdlog.h>
+
 #include <algorithm>
+#include <cmath>
 
 #include "pb4u/physics/quasi_newton_hessian.h"
 #include "pb4u/util/error.h"
@@ -27,13 +30,34 @@ void ElasticSolve::factorize(const torch::Tensor& contact_diagonal) {
       pattern_outer.assign(H.outerIndexPtr(), H.outerIndexPtr() + H.outerSize() + 1);
       pattern_inner.assign(H.innerIndexPtr(), H.innerIndexPtr() + H.nonZeros());
     }
-    ldlt.factorize(H);
+    factorize_shifted(H);
   } else {
     Eigen::SparseMatrix<double> H = base;
     if (diagonal.size()) H.diagonal() += diagonal;
-    ldlt.factorize(H);
+    factorize_shifted(H);
   }
-  if (ldlt.info() != Eigen::Success) throw Error("reference solver: the elastic initial Hessian is not positive definite");
+}
+
+// A pivot lost to rounding (entries ~1e19 beside ~1e2, from the Newton Hessian of a sliver
+// triangle or a barrier pair all but touching) fails the LDLT although the matrix is positive
+// semi-definite plus inertia: the factorisation is tried again with the diagonal shifted by
+// a growing fraction of its largest entry (Levenberg-Marquardt). The shift only shapes the
+// step's direction; the line search and CCD decide how far it goes.
+void ElasticSolve::factorize_shifted(const Eigen::SparseMatrix<double>& H) {
+  ldlt.factorize(H);
+  if (ldlt.info() == Eigen::Success) return;
+  const double largest = H.diagonal().cwiseAbs().maxCoeff();
+  for (double share = 1e-12; share <= 1e-3 && std::isfinite(largest); share *= 1e3) {
+    Eigen::SparseMatrix<double> shifted = H;
+    shifted.diagonal().array() += share * largest;
+    ldlt.factorize(shifted);
+    if (ldlt.info() == Eigen::Success) {
+      spdlog::debug("reference solver: the Hessian factorised with its diagonal shifted by {:.3g} ({:.0e} of its largest entry)",
+                    share * largest, share);
+      return;
+    }
+  }
+  throw Error("reference solver: the elastic initial Hessian is not positive definite");
 }
 
 torch::Tensor ElasticSolve::operator()(const torch::Tensor& r) const {

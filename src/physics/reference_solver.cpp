@@ -596,7 +596,8 @@ bool IncrementalPotentialSolve::move_body() {
   const double share = left > kMaxContactStep ? kMaxContactStep / left : 1.0;
   const Eigen::MatrixXd DB = share * (barrier->body_next - body.V);
   const Eigen::MatrixXd X = positions(q);
-  Eigen::MatrixXd D = carried_by_body(X, barrier->cloth_edges, body, DB, excluded, barrier->settings.d_hat / 2);
+  Eigen::MatrixXd D = carried_by_body(X, barrier->cloth_edges, body, DB, excluded, barrier->settings.d_hat / 2,
+                                      config.body_carry == "ride");
   for (Eigen::Index i = 0; i < n; ++i)
     if (!free_flags[size_t(i)]) D.row(i).setZero();
   const Eigen::MatrixXd DP = share * pins_left();

@@ -5,6 +5,8 @@
 // fast through a cloth.
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
+
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -144,7 +146,7 @@ ContactSurface floor_square() {
 
 TEST(CarriedByBody, ClothOnARisingFloorRidesItAndClothFartherUpIsPushedToTheKeepDistance) {
   // The floor rises 1 cm. Vertex 0 lies 0.2 mm over it (nearer than keep = 0.5 mm): it rides
-  // all 1 cm. Vertex 1 is 5 mm up: the motion closes 10 - 4.5 mm past keep, so it moves 5.5 mm.
+  // all 1 cm (with the `ride` rule it also rises back to keep over it). Vertex 1 is 5 mm up: the motion closes 10 - 4.5 mm past keep, so it moves 5.5 mm.
   // Vertex 2 is 3 cm up: never reached. Vertex 3 is beside the floor, level with it: the floor
   // slides past it (no approach along their normal): not moved.
   const ContactSurface floor = floor_square();
@@ -161,6 +163,87 @@ TEST(CarriedByBody, ClothOnARisingFloorRidesItAndClothFartherUpIsPushedToTheKeep
   // Falling away from the cloth drags nothing; an excluded vertex is left where it is.
   EXPECT_EQ(carried_by_body(x, Eigen::MatrixXi(0, 2), floor, -up, {}, 5e-4).norm(), 0);
   EXPECT_EQ(carried_by_body(x, Eigen::MatrixXi(0, 2), floor, up, {1, 0, 0, 0}, 5e-4).row(0).norm(), 0);
+  const Eigen::MatrixXd ridden = carried_by_body(x, Eigen::MatrixXi(0, 2), floor, up, {}, 5e-4, true);
+  EXPECT_NEAR(ridden(0, 1), 1e-2 + 5e-4 - 2e-4, 1e-12);
+  EXPECT_NEAR(ridden(1, 1), 5.5e-3, 1e-12);
+  EXPECT_EQ(ridden.row(3).norm(), 0);
+}
+
+// The motion of points p (rows) under a rotation R about the origin.
+Eigen::MatrixXd rotation_motion(const Eigen::MatrixXd& p, const Eigen::Matrix3d& R) {
+  return (p * R.transpose()) - p;
+}
+
+TEST(CarriedByBody, ClothRestingOnAFloorThatTurnsUnderItRidesWithIt) {
+  // `ride`: the floor turns 0.1 rad about its normal: no point of it comes closer to the cloth, to
+  // first order or at all, but cloth that rode it must not be left behind (a limb turning
+  // under a sleeve). Each vertex 0.2 mm over it moves as the floor does under it, and rises to
+  // keep (0.5 mm).
+  const ContactSurface floor = floor_square();
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(0.1, V3::UnitY()).toRotationMatrix();
+  Eigen::MatrixXd x(2, 3);
+  x << 0.2, 2e-4, 0.1, -0.3, 2e-4, -0.2;
+  const Eigen::MatrixXd moved =
+      carried_by_body(x, Eigen::MatrixXi(0, 2), floor, rotation_motion(floor.V, R), {}, 5e-4, true);
+  Eigen::MatrixXd foot = x;
+  foot.col(1).setZero();
+  const Eigen::MatrixXd expected = rotation_motion(foot, R);
+  for (int i = 0; i < 2; ++i) {
+    EXPECT_NEAR(moved(i, 0), expected(i, 0), 1e-12);
+    EXPECT_NEAR(moved(i, 2), expected(i, 2), 1e-12);
+    EXPECT_NEAR(moved(i, 1), 5e-4 - 2e-4, 1e-12);
+  }
+}
+
+TEST(CarriedByBody, RidingAVertexPushedByTwoSurfacesTakesBothPushes) {
+  // `ride`: a floor (y = 0) rising 1 cm and a wall (x = 0) moving 1 cm in +x, a vertex in their corner
+  // 0.2 mm from each: it must clear both, not only the one with the larger push.
+  Eigen::MatrixXd V(8, 3);
+  V << 0, 0, -0.25, 0.5, 0, -0.25, 0.5, 0, 0.25, 0, 0, 0.25,  // floor
+      0, 0, -0.25, 0, 0.5, -0.25, 0, 0.5, 0.25, 0, 0, 0.25;     // wall
+  Eigen::MatrixXi F(4, 3);
+  F << 0, 2, 1, 0, 3, 2, 4, 5, 6, 4, 6, 7;
+  const ContactSurface corner = make_contact_surface(V, F);
+  Eigen::MatrixXd motion = Eigen::MatrixXd::Zero(8, 3);
+  motion.block(0, 1, 4, 1).setConstant(1e-2);
+  motion.block(4, 0, 4, 1).setConstant(1e-2);
+  Eigen::MatrixXd x(1, 3);
+  x << 2e-4, 2e-4, 0;
+  const Eigen::MatrixXd moved = carried_by_body(x, Eigen::MatrixXi(0, 2), corner, motion, {}, 5e-4, true);
+  // `push` takes one of the two pushes (the larger; here they are equal).
+  const Eigen::MatrixXd pushed = carried_by_body(x, Eigen::MatrixXi(0, 2), corner, motion, {}, 5e-4);
+  EXPECT_NEAR(pushed.row(0).norm(), 1e-2, 1e-12);
+  EXPECT_NEAR(moved(0, 0), 1e-2 + 3e-4, 1e-12);
+  EXPECT_NEAR(moved(0, 1), 1e-2 + 3e-4, 1e-12);
+  EXPECT_NEAR(moved(0, 2), 0, 1e-12);
+}
+
+TEST(CarriedByBody, RidingAClothEdgeAcrossATiltingBodyEdgeTiltsWithIt) {
+  // `ride`: a tent's ridge (the z axis) tilts 0.2 rad about the x axis, which it crosses under a long
+  // cloth edge 0.2 mm above it. The edge's ends stand 5 cm off the tent: only the edge-edge
+  // pair carries them. The ridge's nearest point does not move, so carrying both ends with it
+  // would leave the edge where it is while the tilted ridge closes in at second order; each
+  // end moves with the ridge where it projects onto it, and the pair ends at keep (0.5 mm).
+  Eigen::MatrixXd V(4, 3);
+  V << 0, 0, -0.2, 0, 0, 0.2, 0.05, -0.2, 0, -0.05, -0.2, 0;
+  Eigen::MatrixXi F(2, 3);
+  F << 0, 1, 2, 1, 0, 3;
+  const ContactSurface tent = make_contact_surface(V, F);
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(0.2, V3::UnitX()).toRotationMatrix();
+  const Eigen::MatrixXd motion = rotation_motion(V, R);
+  Eigen::MatrixXd x(2, 3);
+  x << -0.05, 2e-4, -0.05, 0.05, 2e-4, 0.05;
+  Eigen::MatrixXi edge(1, 2);
+  edge << 0, 1;
+  const Eigen::MatrixXd moved = carried_by_body(x, edge, tent, motion, {}, 5e-4, true);
+  EXPECT_EQ(carried_by_body(x, edge, tent, motion, {}, 5e-4).norm(), 0);  // `push`: left where it is
+  const Eigen::MatrixXd x_after = x + moved, ridge_after = V.topRows(2) * R.transpose();
+  // Still: the tilted ridge is nearer than before.
+  EXPECT_LT(edge_edge_distance(row(x, 0), row(x, 1), row(ridge_after, 0), row(ridge_after, 1)).distance, 2e-4);
+  EXPECT_NEAR(edge_edge_distance(row(x_after, 0), row(x_after, 1), row(ridge_after, 0), row(ridge_after, 1)).distance,
+              5e-4, 2e-5);
+  EXPECT_GT(moved(0, 1), 0.05 * std::sin(0.2) * 0.9);  // the end over the rising half goes up
+  EXPECT_LT(moved(1, 1), 0);                            // the other goes down with the ridge
 }
 
 TEST(IntersectionFreeStart, VerticesNotFreeAreThoseInsideThroughOrTouching) {

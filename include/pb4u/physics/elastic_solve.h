@@ -29,8 +29,10 @@ struct ElasticSolve {  // not copyable (the factorisation): held by shared_ptr
   std::vector<int> pattern_outer, pattern_inner;  // of the last analysed coordinate Hessian
 
   // base + `hessian` (coordinates) + contact_diagonal (per free vertex, undefined: none),
-  // factorised; throws where it is not positive definite.
+  // factorised; throws where even a shifted diagonal cannot be factorised.
   void factorize(const torch::Tensor& contact_diagonal);
+  // ldlt of H, with the diagonal shifted where rounding loses a pivot; throws when none works.
+  void factorize_shifted(const Eigen::SparseMatrix<double>& H);
   // r (3k, xyz per vertex) -> H^-1 r, in r's options.
   torch::Tensor operator()(const torch::Tensor& r) const;
 };

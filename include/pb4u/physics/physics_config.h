@@ -164,6 +164,15 @@ struct ReferenceSolverConfig {
   // where the hand enters the hip, the cloth it keeps in contact snags there: 0.044 J a frame
   // instead of 0.0098 (docs/physics.md, "Releasing the cloth that holds the body back").
   bool release_held_cloth = false;
+  // How a body move carries the cloth it touches (carried_by_body.h): "push" (the default) =
+  // each pair the body approaches (to first order) moves its cloth with the body's closest point;
+  // "ride" = cloth nearer than d_hat / 2 also rides where the body slides or turns under it, each
+  // end of a cloth edge moves with the body edge where it projects onto it, and a point pushed
+  // by several pairs meets each. On the hard cases' spin, "ride" gets the body to its pose on
+  // every frame with nothing inside (push: placed short on 6 of 15, 1.74% inside); on the demo
+  // walk's first 150 frames, where the hand enters the hip, it catches 2044 vertices instead of
+  // 996 (docs/physics.md, "Carrying the cloth the body slides and turns under").
+  std::string body_carry = "push";
   // How the barriers' curvature (contact, strain) enters L-BFGS's elastic initial Hessian:
   // "diagonal" = one isotropic value per vertex; "blocks" = their Hessians on the coordinates
   // (coordinate_hessian.h; stiff along a contact's normal and an edge's direction, free across;
@@ -203,6 +212,7 @@ struct ReferenceSolverConfig {
     v("given_start", given_start, one_of({"at_step", "swept", "fewer_left_out"}));
     v("push_out_caught", push_out_caught);
     v("release_held_cloth", release_held_cloth);
+    v("body_carry", body_carry, one_of({"push", "ride"}));
     v("barrier_hessian", barrier_hessian, one_of({"blocks", "diagonal"}));
     v("step", step, one_of({"auto", "quasi_newton", "newton"}));
   }
