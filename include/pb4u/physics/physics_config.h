@@ -171,7 +171,8 @@ struct ReferenceSolverConfig {
   // by several pairs meets each. On the hard cases' spin, "ride" gets the body to its pose on
   // every frame with nothing inside (push: placed short on 6 of 15, 1.74% inside); on the demo
   // walk's first 150 frames, where the hand enters the hip, it catches 2044 vertices instead of
-  // 996 (docs/physics.md, "Carrying the cloth the body slides and turns under").
+  // 996, and 195 with push_out_caught beside it (docs/physics.md, "Carrying the cloth the body
+  // slides and turns under").
   std::string body_carry = "push";
   // How the barriers' curvature (contact, strain) enters L-BFGS's elastic initial Hessian:
   // "diagonal" = one isotropic value per vertex; "blocks" = their Hessians on the coordinates
