@@ -7,9 +7,9 @@
 namespace pb4u {
 namespace {
 
-// `ride`: a pair nearer than `keep` rides with the body unless the body leaves it faster than this
-// share of the motion of the pair's fastest body point: a body sliding past the cloth, or turning under it, closes the gap at
-// second order, which a first-order approach of zero does not see.
+// `ride`: a pair nearer than `keep` rides with the body unless the body leaves it faster than
+// this share of the motion of the pair's fastest body point: a body sliding past the cloth, or
+// turning under it, closes the gap at second order, which a first-order approach of zero misses.
 constexpr double kLeavingShare = 0.25;
 // Passes over the half-spaces a point's move must reach (several pairs pushing one point).
 constexpr int kHalfSpacePasses = 8;
@@ -54,12 +54,15 @@ Eigen::MatrixXd carried_by_body(const Eigen::MatrixXd& x, const Eigen::MatrixXi&
       if (ride && cloth_points == 2) {
         const Eigen::Vector3d b0 = point_row(body.V, points[2]), b1 = point_row(body.V, points[3]);
         const double length2 = (b1 - b0).squaredNorm();
-        const double s = length2 > 0 ? std::clamp((point_row(x, points[i]) - b0).dot(b1 - b0) / length2, 0.0, 1.0) : 0.0;
+        const double s =
+            length2 > 0 ? std::clamp((point_row(x, points[i]) - b0).dot(b1 - b0) / length2, 0.0, 1.0) : 0.0;
         carried = share * ((1 - s) * point_row(body_motion, points[2]) + s * point_row(body_motion, points[3]));
       }
       const Eigen::Vector3d g = d.gradient.segment<3>(3 * i);
-      if (ride && g.norm() > 0)  // the move along the pair's normal, and what is missing of `keep`
-        half_spaces.push_back({points[i], g.normalized(), g.normalized().dot(carried) + std::max(keep - d.distance, 0.0)});
+      if (ride && g.norm() > 0) {  // the move along the pair's normal, and what is missing of `keep`
+        const Eigen::Vector3d normal = g.normalized();
+        half_spaces.push_back({points[i], normal, normal.dot(carried) + std::max(keep - d.distance, 0.0)});
+      }
       if (carried.norm() > largest(points[i])) {
         largest(points[i]) = carried.norm();
         out.row(points[i]) = carried.transpose();

@@ -52,7 +52,8 @@ void ElasticSolve::factorize_shifted(const Eigen::SparseMatrix<double>& H) {
     shifted.diagonal().array() += share * largest;
     ldlt.factorize(shifted);
     if (ldlt.info() == Eigen::Success) {
-      spdlog::debug("reference solver: the Hessian factorised with its diagonal shifted by {:.3g} ({:.0e} of its largest entry)",
+      spdlog::debug("reference solver: the Hessian factorised with its diagonal shifted by {:.3g} "
+                    "({:.0e} of its largest entry)",
                     share * largest, share);
       return;
     }
