@@ -3,7 +3,7 @@
 // little for it (its energy stays finite as a triangle flattens), while a collapsed triangle's
 // normal turns without bound under its vertices, and with it the bending term's hinge angles
 // (gradients ~1 / altitude). A solve that lets a triangle collapse can stall there with no
-// descent left (docs/physics.md, "A collapsed triangle").
+// descent left (docs/physics.md, "A barrier against collapse").
 //
 // Per triangle, its area ratio r = A / A0 carries IPC's log barrier below g_hat
 // (pb4u/physics/barrier.h), with a stiffness per rest area:
