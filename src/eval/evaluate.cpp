@@ -158,20 +158,26 @@ std::vector<Sequence> level_sequences(const Dataset& data, const EvalConfig& con
 
 // What one sequence rolls out: its LBS-initialised start on the motion, or without a body the
 // garment still at rest, pinned by the config's rule.
+// How many frames a sequence rolls out: the motion's from the start frame, at most max_frames;
+// without a motion, max_frames.
+int sequence_steps(const EvalConfig& config, const Sequence& s) {
+  if (!s.motion) return config.max_frames;
+  int steps = s.motion->motion.num_frames() - 1 - config.start_frame;
+  if (config.max_frames > 0) steps = std::min(steps, config.max_frames);
+  return steps;
+}
+
 RolloutInput sequence_input(const EvalConfig& config, const Effects& effects, const Sequence& s) {
   RolloutInput in;
   if (s.motion) {
-    const Motion& motion = s.motion->motion;
-    int steps = motion.num_frames() - 1 - config.start_frame;
-    if (config.max_frames > 0) steps = std::min(steps, config.max_frames);
-    in = lbs_rollout_input(*s.body, *s.garment, motion, config.start_frame, steps, effects, config.material,
-                           config.push_out_gap);
+    in = lbs_rollout_input(*s.body, *s.garment, s.motion->motion, config.start_frame, sequence_steps(config, s),
+                           effects, config.material, config.push_out_gap);
   } else {
     in.garment_rest = s.garment->mesh;
     in.x0 = in.x_prev = s.garment->mesh.V;
     in.effects = effects;
     in.material = in.metric_material = config.material;
-    in.steps = config.max_frames;
+    in.steps = sequence_steps(config, s);
   }
   if (effects.pins) in.pinned = top_band_vertices(in.x0, config.pins.top_band);
   if (s.motion && config.waistband.holds(s.garment->name)) {
@@ -253,7 +259,10 @@ std::vector<LevelResult> evaluate(const EvalConfig& config, const std::vector<Ev
     lr.triangles /= int64_t(seen.size());
     lr.vertices /= int64_t(seen.size());
 
-    Progress bar("Lv." + std::to_string(level), int64_t(sequences.size() * methods.size()), "seq");
+    // Frames, not sequences: a solver's sequence can take an hour.
+    int64_t level_frames = 0;
+    for (const Sequence& s : sequences) level_frames += std::max(sequence_steps(config, s), 0);
+    Progress bar("evaluate Lv." + std::to_string(level), std::max<int64_t>(level_frames * int64_t(methods.size()), 1), "frame");
     for (const EvalMethod& method : methods) {
       MethodResult mr;
       mr.name = method.name;
@@ -288,13 +297,16 @@ std::vector<LevelResult> evaluate(const EvalConfig& config, const std::vector<Ev
         const bool keep_logs = !config.frames_dir.empty() && solves && measured.solver.contact == "barrier" &&
                                in.effects.collision && !in.body.empty();
         std::vector<ContactStepLog> logs;
-        FrameCallback on_frame;
-        if (keep_frames || keep_logs)
-          on_frame = [&](int, const Eigen::MatrixXd& x, const EnergyReport&, const PenetrationFigures*) {
-            if (keep_frames) frames.push_back(x);
-            if (keep_logs) logs.push_back(*step_log);
-          };
+        int64_t frames_done = 0;
+        const std::string status = mr.name + ", " + s.garment->name + (s.motion ? " on " + s.motion->name : "");
+        FrameCallback on_frame = [&](int, const Eigen::MatrixXd& x, const EnergyReport&, const PenetrationFigures*) {
+          if (keep_frames) frames.push_back(x);
+          if (keep_logs) logs.push_back(*step_log);
+          ++frames_done;
+          bar.step(1, status);
+        };
         RolloutResult r = run_rollout(in, step, measured, on_frame);
+        bar.step(std::max<int64_t>(in.steps - frames_done, 0), status);  // a rollout the guard stopped
         SequenceResult q = sequence_result(s, r);
         if (!config.frames_dir.empty())
           write_frames_csv(config.frames_dir + "/lv" + std::to_string(level) + "/" + file_name_from(method.name) + "/" +
@@ -325,7 +337,6 @@ std::vector<LevelResult> evaluate(const EvalConfig& config, const std::vector<Ev
         }
         if (q.penetration) sequence_penetration.push_back(*q.penetration);
         mr.per_sequence.push_back(std::move(q));
-        bar.step(1, mr.name);
       }
       mr.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       if (!sequence_means.empty()) mr.mean = mean_report(sequence_means);
