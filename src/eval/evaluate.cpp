@@ -156,8 +156,6 @@ std::vector<Sequence> level_sequences(const Dataset& data, const EvalConfig& con
   return sequences;
 }
 
-// What one sequence rolls out: its LBS-initialised start on the motion, or without a body the
-// garment still at rest, pinned by the config's rule.
 // How many frames a sequence rolls out: the motion's from the start frame, at most max_frames;
 // without a motion, max_frames.
 int sequence_steps(const EvalConfig& config, const Sequence& s) {
@@ -167,6 +165,8 @@ int sequence_steps(const EvalConfig& config, const Sequence& s) {
   return steps;
 }
 
+// What one sequence rolls out: its LBS-initialised start on the motion, or without a body the
+// garment still at rest, pinned by the config's rule.
 RolloutInput sequence_input(const EvalConfig& config, const Effects& effects, const Sequence& s) {
   RolloutInput in;
   if (s.motion) {
