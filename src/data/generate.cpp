@@ -13,6 +13,7 @@
 
 #include "pb4u/body/bvh.h"
 #include "pb4u/body/skinned_mesh_import.h"
+#include "pb4u/garment/clear_of_body.h"
 #include "pb4u/garment/import_garment.h"
 #include "pb4u/garment/skin_weight_transfer.h"
 #include "pb4u/mesh/remesh.h"
@@ -32,6 +33,27 @@ std::string resolve(const std::string& path, const std::string& base_dir) {
 
 bool contains(const std::vector<std::string>& v, const std::string& x) {
   return std::find(v.begin(), v.end(), x) != v.end();
+}
+
+// One level of a garment: its rest mesh cleared of the body at the bind pose
+// (garment/clear_of_body.h), then skinned to it.
+Garment garment_level(const std::string& name, TriMesh mesh, const Body& body, const GarmentTemplateConfig& c,
+                      const std::string& label) {
+  Garment g;
+  g.name = name;
+  g.mesh = std::move(mesh);
+  if (c.rest_clearance > 0) {
+    const BodyClearance cleared = clear_of_body(g.mesh, body.mesh, c.rest_clearance);
+    if (cleared.moved > 0)
+      spdlog::info("{}: {} edges through the body at rest; {} vertices moved out (at most {:.1f} mm) to {} mm clear",
+                   label, cleared.edges_through_before, cleared.moved, 1e3 * cleared.largest_move,
+                   1e3 * c.rest_clearance);
+    if (!cleared.clear())
+      spdlog::warn("{}: {} edges still through the body at rest and {} vertices within {} mm of it", label,
+                   cleared.edges_through, cleared.vertices_inside, 1e3 * c.rest_clearance);
+  }
+  g.weights = garment_skin_weights(g.mesh, body, c.skin_weight_options());
+  return g;
 }
 
 }  // namespace
@@ -124,15 +146,10 @@ Dataset generate_dataset(const GenerateConfig& c, const std::string& base_dir, i
         if (contains(c.templates, gl.name)) gl.name += "_file";
       }
       for (int k = 0; k < L; ++k) {
-        Garment g;
-        if (is_template) {
-          g = make_garment(gl.name, surface, rec.body, c.levels.triangles[k], c.garments.skin_weight_options());
-        } else {
-          g.name = gl.name;
-          g.mesh = import_garment(file, c.levels.triangles[k]);
-          g.weights = garment_skin_weights(g.mesh, rec.body, c.garments.skin_weight_options());
-        }
-        gl.levels.push_back(std::move(g));
+        const int triangles = c.levels.triangles[k];
+        gl.levels.push_back(garment_level(
+            gl.name, is_template ? remesh_to_triangle_count(surface, triangles) : import_garment(file, triangles),
+            rec.body, c.garments, spec.name + "/" + gl.name + " level " + std::to_string(k + 1)));
         std::lock_guard<std::mutex> lock(progress_mutex);
         progress.step(1, spec.name + "/" + gl.name + " level " + std::to_string(k + 1));
       }

@@ -9,6 +9,7 @@
 #include "pb4u/physics/additive_ccd.h"
 #include "pb4u/physics/barrier.h"
 #include "pb4u/physics/pair_distances.h"
+#include "pb4u/spatial/segments_through_surface.h"
 
 namespace pb4u {
 namespace {
@@ -18,23 +19,6 @@ namespace {
 // N/m beside 1 N/m of inertia, which the LDLT cannot factorise. It only shapes the step: the
 // line search and CCD still keep every pair apart.
 constexpr double kHessianDistance = 1e-3;
-
-// Whether segment (p, q) crosses triangle (a, b, c), endpoints on it included (Moller-Trumbore).
-bool segment_crosses_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& q, const Eigen::Vector3d& a,
-                              const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
-  const Eigen::Vector3d dir = q - p, e1 = b - a, e2 = c - a, h = dir.cross(e2);
-  const double det = e1.dot(h);
-  if (std::abs(det) < 1e-300) return false;  // parallel: it cannot pass through the interior
-  const double inv = 1 / det;
-  const Eigen::Vector3d s = p - a;
-  const double u = inv * s.dot(h);
-  if (u < 0 || u > 1) return false;
-  const Eigen::Vector3d qv = s.cross(e1);
-  const double v = inv * dir.dot(qv);
-  if (v < 0 || u + v > 1) return false;
-  const double t = inv * e2.dot(qv);
-  return t >= 0 && t <= 1;
-}
 
 }  // namespace
 

@@ -42,6 +42,10 @@ struct GarmentTemplateConfig {
   // skin_smoothing m. Both 0: raw nearest-vertex weights.
   double skin_smoothing = 0.1;
   double skin_inpaint_distance = 0.03;
+  // m: every level's rest mesh, templates and garment files alike, at least this far from the
+  // body at its bind pose, edges included (garment/clear_of_body.h); 0: as remeshed. Below the
+  // template's gap, so a level whose chords clear the body is kept exactly as remeshed.
+  double rest_clearance = 0.003;
 
   SkinWeightOptions skin_weight_options() const { return {skin_smoothing, skin_inpaint_distance}; }
 
@@ -67,6 +71,7 @@ struct GarmentTemplateConfig {
     v("cone_blend", cone_blend, in_range(0.0, 0.3));
     v("skin_smoothing", skin_smoothing, in_range(0.0, 1.0));
     v("skin_inpaint_distance", skin_inpaint_distance, in_range(0.0, 1.0));
+    v("rest_clearance", rest_clearance, in_range(0.0, 0.05));
   }
 };
 

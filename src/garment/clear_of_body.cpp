@@ -1,0 +1,69 @@
+#include "pb4u/garment/clear_of_body.h"
+
+#include <algorithm>
+#include <vector>
+
+#include "pb4u/mesh/edges.h"
+#include "pb4u/spatial/segments_through_surface.h"
+#include "pb4u/spatial/signed_distance_to_surface.h"
+
+namespace pb4u {
+namespace {
+
+// Points along an edge at which its depth in the body is sampled (the ends excluded).
+constexpr int kDepthSamples = 15;
+
+}  // namespace
+
+BodyClearance clear_of_body(TriMesh& garment, const TriMesh& body, double clearance, int max_rounds) {
+  BodyClearance out;
+  Eigen::MatrixXd& V = garment.V;
+  const Eigen::Index n = V.rows();
+  const Eigen::MatrixXi edges = unique_edges(garment.F);
+  const SurfaceQuery surface(body.V, body.F);
+  const Eigen::MatrixXd start = V;
+  std::vector<int> through = segments_through_surface(V, edges, body.V, body.F);
+  out.edges_through_before = int(through.size());
+  auto too_close = [&](const SurfaceProjection& p, Eigen::Index i) { return p.distance(i) < clearance * (1 - 1e-9); };
+  for (int round = 0;; ++round) {
+    const SurfaceProjection p = surface.project(V);
+    Eigen::MatrixXd shift = Eigen::MatrixXd::Zero(n, 3);
+    for (Eigen::Index i = 0; i < n; ++i)
+      if (too_close(p, i)) shift.row(i) = p.closest.row(i) + clearance * p.outward.row(i) - V.row(i);
+    if (!through.empty()) {
+      const Eigen::Index m = Eigen::Index(through.size());
+      Eigen::MatrixXd samples(m * kDepthSamples, 3);
+      for (Eigen::Index k = 0; k < m; ++k)
+        for (int j = 0; j < kDepthSamples; ++j) {
+          const double t = (j + 1.0) / (kDepthSamples + 1);
+          const int e = through[size_t(k)];
+          samples.row(k * kDepthSamples + j) = (1 - t) * V.row(edges(e, 0)) + t * V.row(edges(e, 1));
+        }
+      const SurfaceProjection s = surface.project(samples);
+      for (Eigen::Index k = 0; k < m; ++k) {
+        Eigen::Index j;
+        const double depth = s.distance.segment(k * kDepthSamples, kDepthSamples).minCoeff(&j);
+        const Eigen::RowVector3d move = (clearance - depth) * s.outward.row(k * kDepthSamples + j);
+        for (int end = 0; end < 2; ++end) {
+          const int i = edges(through[size_t(k)], end);
+          if (move.squaredNorm() > shift.row(i).squaredNorm()) shift.row(i) = move;
+        }
+      }
+    }
+    if (round == max_rounds || (through.empty() && shift.isZero(0))) {
+      out.edges_through = int(through.size());
+      for (Eigen::Index i = 0; i < n; ++i) out.vertices_inside += too_close(p, i) ? 1 : 0;
+      break;
+    }
+    V += shift;
+    through = segments_through_surface(V, edges, body.V, body.F);
+  }
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const double d = (V.row(i) - start.row(i)).norm();
+    out.moved += d > 0 ? 1 : 0;
+    out.largest_move = std::max(out.largest_move, d);
+  }
+  return out;
+}
+
+}  // namespace pb4u
