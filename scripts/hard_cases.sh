@@ -13,6 +13,9 @@
 #                                                     refinement takes Newton steps by default)
 #   scripts/hard_cases.sh --solver KEY=VALUE[,...] ... physics.solver keys for the reference and
 #                                                     the refinement, e.g. given_start=fewer_left_out
+#   scripts/hard_cases.sh --start settled ...         the body cases' first frame reached by the
+#                                                     solver from the bind pose (scene key
+#                                                     body.start; default: skinned)
 # Prints one "[hard] ..." line per figure and gtest's verdict; exits non-zero when a case fails.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -27,6 +30,13 @@ fi
 if [ "${1:-}" = "--solver" ]; then
   [ -n "${2:-}" ] || { echo "hard_cases.sh: --solver needs KEY=VALUE[,KEY=VALUE...]" >&2; exit 2; }
   export PB4U_HARD_SOLVER=$2
+  shift 2
+fi
+if [ "${1:-}" = "--start" ]; then
+  case "${2:-}" in
+    skinned|settled) export PB4U_HARD_START=$2 ;;
+    *) echo "hard_cases.sh: --start: '${2:-}' is not skinned or settled" >&2; exit 2 ;;
+  esac
   shift 2
 fi
 if [ "${1:-}" = "--known-gaps" ]; then

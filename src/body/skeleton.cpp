@@ -25,6 +25,14 @@ Pose rest_pose(const Skeleton& skeleton) {
   return pose;
 }
 
+Pose blend_poses(const Pose& a, const Pose& b, double s) {
+  Pose p;
+  p.root = (1 - s) * a.root + s * b.root;
+  p.rotations.resize(a.rotations.size());
+  for (size_t j = 0; j < a.rotations.size(); ++j) p.rotations[j] = a.rotations[j].slerp(s, b.rotations[j]).normalized();
+  return p;
+}
+
 Motion resample_motion(const Motion& motion, double fps) {
   if (!(fps > 0)) throw Error("resample_motion: fps must be positive");
   if (motion.frames.size() < 2 || std::abs(fps - motion.fps) < 1e-9) {
@@ -42,14 +50,7 @@ Motion resample_motion(const Motion& motion, double fps) {
     const int i = std::min(static_cast<int>(std::floor(s)), last);
     const int i1 = std::min(i + 1, last);
     const double a = s - i;
-    const Pose& p0 = motion.frames[i];
-    const Pose& p1 = motion.frames[i1];
-    Pose p;
-    p.root = (1 - a) * p0.root + a * p1.root;
-    p.rotations.resize(p0.rotations.size());
-    for (size_t j = 0; j < p0.rotations.size(); ++j)
-      p.rotations[j] = p0.rotations[j].slerp(a, p1.rotations[j]).normalized();
-    out.frames.push_back(std::move(p));
+    out.frames.push_back(blend_poses(motion.frames[i], motion.frames[i1], a));
   }
   return out;
 }

@@ -7,10 +7,14 @@
 #include <filesystem>
 
 #include "pb4u/body/bvh.h"
+#include "pb4u/body/forward_kinematics.h"
+#include "pb4u/body/linear_blend_skinning.h"
 #include "pb4u/body/procedural_motion.h"
 #include "pb4u/data/dataset.h"
 #include "pb4u/data/lbs_frame.h"
 #include "pb4u/rollout/rollout.h"
+#include "pb4u/rollout/settled_start.h"
+#include "pb4u/garment/clear_of_body.h"
 #include "pb4u/garment/garment_template.h"
 #include "pb4u/garment/import_garment.h"
 #include "pb4u/garment/skin_weight_transfer.h"
@@ -155,7 +159,16 @@ SceneSetup build_scene(const SceneConfig& scene, const std::string& where) {
       fail_file(path, "the garment is not manifold (" + std::to_string(manifold.nonmanifold_edges) +
                           " edges with more than two faces, " + std::to_string(manifold.nonmanifold_vertices) +
                           " non-manifold vertices); repair it first");
-    if (skeleton_body) garment.weights = garment_skin_weights(garment.mesh, record->body, GarmentTemplateConfig{}.skin_weight_options());
+    if (skeleton_body) {
+      // Around the body's bind pose, as a dataset's garments: its rest mesh cleared of the body first.
+      const GarmentTemplateConfig fit;
+      const BodyClearance cleared = clear_of_body(garment.mesh, record->body.mesh, fit.rest_clearance);
+      if (cleared.moved > 0)
+        spdlog::info("{}: {} edges through the body at its bind pose; {} vertices moved out (at most {:.1f} mm) to "
+                     "{} mm clear", path, cleared.edges_through_before, cleared.moved, 1e3 * cleared.largest_move,
+                     1e3 * fit.rest_clearance);
+      garment.weights = garment_skin_weights(garment.mesh, record->body, fit.skin_weight_options());
+    }
   } else {
     garment.name = "square";
     garment.mesh = square_cloth(g.size, g.resolution, g.height);
@@ -168,9 +181,10 @@ SceneSetup build_scene(const SceneConfig& scene, const std::string& where) {
   const bool waistband = skinned && scene.waistband.holds(garment.name);
   if (skeleton_body && scene.pins.on_body && !skinned)
     throw Error(where + ": pins.on_body: the garment has no skinning weights to follow the body with");
+  Motion motion;
   if (skeleton_body) {
     const Body& body = record->body;
-    Motion motion = scene_motion(scene.body, data, body, scene.frames, where);
+    motion = scene_motion(scene.body, data, body, scene.frames, where);
     if (skinned) {
       LbsFrame f0 = lbs_frame(body, garment, motion, 0, scene.body.push_out_gap);
       s.x0 = f0.garment;
@@ -213,6 +227,25 @@ SceneSetup build_scene(const SceneConfig& scene, const std::string& where) {
     if (through > 0)
       spdlog::warn("{}: {} edges between pinned vertices still cut the body on a frame (pins are not moved further)",
                    where, through);
+  }
+  if (scene.body.start == "settled") {
+    if (!skinned) throw Error(where + ": body.start: settled needs a skinned garment on a dataset's body (body.dataset)");
+    const std::vector<int> riding = s.pin_targets.empty() ? std::vector<int>() : s.pinned;
+    const SettledStart st = settled_start(record->body, garment, motion.frames[0], scene.body.settle_steps,
+                                          scene.material, riding, scene.body.push_out_gap, scene.physics);
+    s.x0 = st.x;
+    for (int i : riding) s.x0.row(i) = s.pin_targets[0].row(i);
+    // The body is already moving at frame 0: the cloth moves as skinning would move it.
+    const int next = std::min(1, motion.num_frames() - 1);
+    auto skin = [&](int t) {
+      return linear_blend_skinning(garment.mesh.V, garment.weights,
+                                   skinning_transforms(record->body.skeleton, record->body.bind, motion.frames[size_t(t)]));
+    };
+    s.x_prev = s.x0 - (skin(next) - skin(0));
+    spdlog::info("{}: start settled from the bind pose in {} solver steps ({:.1f} s): {} cloth edges through the "
+                 "body, {:.2f}% of the vertices inside it; at most {} vertices a step out of barrier contact",
+                 where, scene.body.settle_steps, st.seconds, st.edges_through, 100 * st.inside_fraction,
+                 st.excluded_max);
   }
   return s;
 }

@@ -7,6 +7,7 @@
 #include "pb4u/body/humanoid.h"
 #include "pb4u/body/linear_blend_skinning.h"
 #include "pb4u/body/procedural_motion.h"
+#include "pb4u/body/skeleton.h"
 #include "pb4u/util/error.h"
 
 using namespace pb4u;
@@ -62,6 +63,22 @@ TEST(Skinning, WeightsAreLimitedAndNormalised) {
   }
   Eigen::MatrixXd bad = Eigen::MatrixXd::Random(5, 3);
   EXPECT_THROW(linear_blend_skinning(Eigen::MatrixXd::Zero(4, 3), bad, JointTransforms(3)), Error);
+}
+
+TEST(Skeleton, BlendedPosesRunFromOneToTheOtherAlongTheShortestTurn) {
+  Pose a, b;
+  a.rotations = {Eigen::Quaterniond::Identity(), Eigen::Quaterniond(Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitX()))};
+  b.rotations = {Eigen::Quaterniond(Eigen::AngleAxisd(1.2, Eigen::Vector3d::UnitY())),
+                 Eigen::Quaterniond(Eigen::AngleAxisd(-0.6, Eigen::Vector3d::UnitX()))};
+  a.root = Eigen::Vector3d(0, 1, 0);
+  b.root = Eigen::Vector3d(2, 1, -4);
+  for (double s : {0.0, 0.25, 1.0}) {
+    const Pose p = blend_poses(a, b, s);
+    EXPECT_LT((p.root - ((1 - s) * a.root + s * b.root)).norm(), 1e-15);
+    // About Y from 0 to 1.2 rad, about X from 0.2 to -0.6 rad: the angles in proportion.
+    EXPECT_NEAR(p.rotations[0].angularDistance(Eigen::Quaterniond(Eigen::AngleAxisd(1.2 * s, Eigen::Vector3d::UnitY()))), 0, 1e-12);
+    EXPECT_NEAR(p.rotations[1].angularDistance(Eigen::Quaterniond(Eigen::AngleAxisd(0.2 - 0.8 * s, Eigen::Vector3d::UnitX()))), 0, 1e-12);
+  }
 }
 
 TEST(Humanoid, BuiltinSkeletonIsHumanAndBindPoseAimsLimbs) {

@@ -247,9 +247,16 @@ bool check_relative(const std::string& label, const RolloutFigures& network, con
   return within;
 }
 
-PhysicsConfig reference_physics(const PhysicsConfig& physics, const RolloutInput& in) {
+std::string body_start() {
+  const char* s = std::getenv("PB4U_HARD_START");
+  const std::string start = s ? s : "skinned";
+  if (start != "skinned" && start != "settled")
+    throw Error("PB4U_HARD_START: '" + start + "' is not skinned or settled");
+  return start;
+}
+
+PhysicsConfig with_solver_overrides(const PhysicsConfig& physics) {
   PhysicsConfig p = physics;
-  if (!in.body.empty() && in.effects.collision) p.solver.contact = "barrier";
   // scripts/hard_cases.sh --step newton: the reference solver with Newton steps.
   if (const char* step = std::getenv("PB4U_HARD_SOLVER_STEP")) p.solver.step = step;
   // scripts/hard_cases.sh --solver KEY=VALUE,...: physics.solver keys for the reference and the
@@ -268,6 +275,12 @@ PhysicsConfig reference_physics(const PhysicsConfig& physics, const RolloutInput
     reader.finish();
     p.solver = solver;
   }
+  return p;
+}
+
+PhysicsConfig reference_physics(const PhysicsConfig& physics, const RolloutInput& in) {
+  PhysicsConfig p = with_solver_overrides(physics);
+  if (!in.body.empty() && in.effects.collision) p.solver.contact = "barrier";
   return p;
 }
 

@@ -16,6 +16,14 @@ namespace pb4u::hard {
 // (environment PB4U_HARD_SCALE).
 int scale();
 
+// How the body cases reach their first frame (SceneBody::start): "skinned" in ctest, "settled"
+// from scripts/hard_cases.sh --start settled (environment PB4U_HARD_START).
+std::string body_start();
+
+// `physics` with the physics.solver keys of scripts/hard_cases.sh --step / --solver (environment
+// PB4U_HARD_SOLVER_STEP, PB4U_HARD_SOLVER), checked as a config file's are.
+PhysicsConfig with_solver_overrides(const PhysicsConfig& physics);
+
 // The shipped model (data/pretrained/pb4u.h5), loaded once.
 const ModelFile& shipped_model();
 // A small randomly initialised Pb4U-GNet (fixed seed), calibrated to `lbar_base` (m), in

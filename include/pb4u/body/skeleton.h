@@ -40,6 +40,10 @@ struct Motion {
   double duration() const { return frames.empty() ? 0.0 : (frames.size() - 1) / fps; }
 };
 
+// The pose a fraction s of the way from a to b (s in [0, 1]): root translation linearly,
+// each joint's rotation by slerp. a and b must have as many rotations.
+Pose blend_poses(const Pose& a, const Pose& b, double s);
+
 // Resamples to `fps` (s^-1): root translation interpolated linearly, rotations by slerp.
 // The first frame is kept; the last output frame is the last one at or before the end.
 Motion resample_motion(const Motion& motion, double fps);

@@ -62,6 +62,12 @@ struct SceneBody {
   double speed = 1.0, amplitude = 1.0;  // procedural motions
   double bvh_scale = 1.0;               // BVH file units to metres (as in generate's bvh.scale)
   double push_out_gap = 0.004;          // m: LBS start frame pushed out of the body
+  // How frame 0 is reached: "skinned" (the garment skinned to the first pose and pushed
+  // push_out_gap out of the body, the training data's start) or "settled" (the reference solver
+  // carries the rest shape from the bind pose to the first pose in settle_steps steps, never
+  // inside the body: rollout/settled_start.h). Every method of a rollout starts from it.
+  std::string start = "skinned";
+  int settle_steps = 10;
 
   template <class V>
   void visit(V& v) {
@@ -73,6 +79,8 @@ struct SceneBody {
     v("amplitude", amplitude, non_negative());
     v("bvh_scale", bvh_scale, positive());
     v("push_out_gap", push_out_gap, in_range(0, 0.05));
+    v("start", start, one_of({"skinned", "settled"}));
+    v("settle_steps", settle_steps, int_in_range(1, 1000));
   }
 };
 

@@ -1,0 +1,42 @@
+#pragma once
+// A garment's first frame reached by the intersection-free solver from its rest shape, instead
+// of by skinning alone.
+//
+// A skinned start (data/lbs_frame.h) poses the garment with weights smoothed over 10 cm, which
+// differ from the body's own near the joints: on the tiny dataset's spin its first frame has 16
+// coarse t-shirt edges through the mannequin's shoulders and arms, on the jump's crouch cloth
+// up to 5 cm inside, where no push out of the posed body finds a free place
+// (physics/intersection_free_start.h). Here the body moves from its bind pose, where the rest
+// mesh is free of it (garment/clear_of_body.h), to the motion's first pose in `steps` steps
+// (rotations by slerp, the root linearly). Each step the reference solver (barrier contact; CCD
+// on the body's move) advances the cloth with the velocity skinning would give it, without
+// gravity or friction: the cloth follows the skinning where the body leaves room and is pushed
+// where it does not, so it is never inside the body. The velocity is dropped at the end.
+#include <Eigen/Core>
+
+#include <vector>
+
+#include "pb4u/body/body.h"
+#include "pb4u/garment/garment.h"
+#include "pb4u/physics/physics_config.h"
+#include "pb4u/scene/material.h"
+
+namespace pb4u {
+
+struct SettledStart {
+  Eigen::MatrixXd x;         // n x 3 m: the garment at the first pose
+  int excluded_max = 0;      // the most vertices a step left out of barrier contact
+  int edges_through = 0;     // cloth edges through the body at the first pose
+  double inside_fraction = 0;  // share of the cloth vertices inside the body at the first pose
+  double seconds = 0;        // wall time of the steps
+};
+
+// `first`: the motion's first pose; steps >= 1. pinned: vertices held on the body (a
+// waistband), which follow the skinned garment pushed `push_out_gap` m out of each step's body
+// and are kept where no edge between two of them cuts it. Throws pb4u::Error if the garment has
+// no skinning weights.
+SettledStart settled_start(const Body& body, const Garment& garment, const Pose& first, int steps,
+                           const Material& material, const std::vector<int>& pinned, double push_out_gap,
+                           const PhysicsConfig& physics);
+
+}  // namespace pb4u

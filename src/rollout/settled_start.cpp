@@ -1,0 +1,70 @@
+#include "pb4u/rollout/settled_start.h"
+
+#include <algorithm>
+#include <chrono>
+#include <memory>
+
+#include "pb4u/body/forward_kinematics.h"
+#include "pb4u/body/linear_blend_skinning.h"
+#include "pb4u/physics/penetration.h"
+#include "pb4u/rollout/rollout.h"
+#include "pb4u/util/error.h"
+
+namespace pb4u {
+
+SettledStart settled_start(const Body& body, const Garment& garment, const Pose& first, int steps,
+                           const Material& material, const std::vector<int>& pinned, double push_out_gap,
+                           const PhysicsConfig& physics) {
+  if (garment.weights.rows() != garment.mesh.V.rows())
+    throw Error("settled start: garment '" + garment.name + "' has no skinning weights");
+  if (steps < 1) throw Error("settled start: steps must be at least 1");
+  const auto t0 = std::chrono::steady_clock::now();
+  Motion path;
+  for (int k = 0; k <= steps; ++k) path.frames.push_back(blend_poses(body.bind, first, double(k) / steps));
+  std::vector<Eigen::MatrixXd> bodies, skinned;
+  for (const Pose& p : path.frames) {
+    bodies.push_back(pose_body(body, p));
+    skinned.push_back(linear_blend_skinning(garment.mesh.V, garment.weights,
+                                            skinning_transforms(body.skeleton, body.bind, p)));
+  }
+  // Barrier contact whatever the scene's solver: the steps exist to keep the cloth out of the body.
+  PhysicsConfig barrier = physics;
+  barrier.solver.contact = "barrier";
+  RolloutInput in;
+  in.garment_rest = garment.mesh;
+  in.effects = Effects::from_names({"collision"}, "settled start");
+  in.material = in.metric_material = material;
+  in.steps = 1;
+  in.measure_residual = false;
+  in.body_faces = body.mesh.F;
+  std::vector<Eigen::MatrixXd> pin_targets;
+  if (!pinned.empty()) {
+    in.effects.pins = true;
+    in.pinned = pinned;
+    pin_targets = skinned_pin_targets(body, garment, path, 0, bodies, push_out_gap);
+    Eigen::MatrixXd unused_x0 = garment.mesh.V, unused_prev = garment.mesh.V;
+    hold_pins_free_of_body(garment.mesh.F, pinned, bodies, body.mesh.F, &pin_targets, &unused_x0, &unused_prev);
+  }
+  SettledStart out;
+  out.x = garment.mesh.V;
+  for (int i : pinned) out.x.row(i) = pin_targets[0].row(i);
+  for (int k = 0; k < steps; ++k) {
+    in.x0 = out.x;
+    in.x_prev = out.x - (skinned[size_t(k + 1)] - skinned[size_t(k)]);
+    in.body = {bodies[size_t(k)], bodies[size_t(k + 1)]};
+    if (!pinned.empty()) in.pin_targets = {pin_targets[size_t(k)], pin_targets[size_t(k + 1)]};
+    auto log = std::make_shared<ContactStepLog>();
+    const RolloutResult r = run_rollout(in, reference_stepper(barrier.solver, log), barrier,
+                                        [&](int, const Eigen::MatrixXd& x, const EnergyReport&,
+                                            const PenetrationFigures* pen) {
+                                          out.x = x;
+                                          if (pen) out.edges_through = pen->edges_through, out.inside_fraction = pen->penetrating_fraction;
+                                        });
+    if (r.diverged) throw Error("settled start: step " + std::to_string(k + 1) + " of " + std::to_string(steps) + ": " + r.diverged_reason);
+    out.excluded_max = std::max(out.excluded_max, log->excluded);
+  }
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return out;
+}
+
+}  // namespace pb4u

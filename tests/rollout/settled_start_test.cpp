@@ -1,0 +1,80 @@
+// The settled start (rollout/settled_start.h, scene key body.start: settled): the tiny t-shirt on
+// the hard cases' spin, whose skinned first frame cuts the mannequin's arms and shoulders,
+// reaches the first pose from its bind pose free of the body, moving as skinning moves it; a
+// skirt held at the waist keeps its pins on their targets; a scene without a skinned garment
+// is refused by name.
+#include <gtest/gtest.h>
+
+#include "pb4u/mesh/edges.h"
+#include "pb4u/physics/barrier_potential.h"
+#include "pb4u/physics/penetration.h"
+#include "pb4u/sim/scene.h"
+#include "pb4u/util/error.h"
+#include "pb4u/util/runtime.h"
+#include "test_util.h"
+
+namespace pb4u {
+namespace {
+
+SceneConfig tiny_scene(const std::string& garment, const std::string& motion, double speed, double amplitude) {
+  SceneConfig s;
+  s.frames = 3;
+  s.garment.source = "template";
+  s.garment.dataset = test::tiny_dataset();
+  s.garment.name = garment;
+  s.body.dataset = test::tiny_dataset();
+  s.body.name = "mannequin";
+  s.body.motion = "procedural:" + motion;
+  s.body.speed = speed;
+  s.body.amplitude = amplitude;
+  return s;
+}
+
+int edges_through_at_start(const SceneSetup& s) {
+  return int(cloth_edges_through_body(s.x0, unique_edges(s.garment.F), make_contact_surface(s.body[0], s.body_faces)).size());
+}
+
+TEST(SettledStart, TheSpinsTShirtStartsFreeOfTheBodyWhereSkinningCutsIt) {
+  configure_threads(1);
+  SceneConfig scene = tiny_scene("tshirt", "spin", 4.0, 1.0);  // the hard cases' spin
+  const SceneSetup skinned = build_scene(scene, "spin");
+  EXPECT_GT(edges_through_at_start(skinned), 5);  // what the settled start is for
+  scene.body.start = "settled";
+  const SceneSetup settled = build_scene(scene, "spin");
+  EXPECT_EQ(edges_through_at_start(settled), 0);
+  EXPECT_EQ(garment_penetration(settled.x0, settled.body[0], settled.body_faces).penetrating_fraction, 0.0);
+  // Near the skinned start (the cloth follows the skinning where the body leaves room)...
+  EXPECT_LT((settled.x0 - skinned.x0).rowwise().norm().mean(), 0.02);
+  // ...and moving as the skinning moves it from frame 0 to 1: the body is already turning.
+  const Eigen::MatrixXd v = settled.x0 - settled.x_prev;
+  EXPECT_GT(v.rowwise().norm().mean(), 1e-3);
+}
+
+TEST(SettledStart, AWaistbandStaysOnItsTargets) {
+  configure_threads(1);
+  SceneConfig scene = tiny_scene("skirt", "walk", 1.0, 1.0);
+  scene.body.start = "settled";
+  scene.body.settle_steps = 4;
+  const SceneSetup s = build_scene(scene, "skirt");
+  ASSERT_FALSE(s.pinned.empty());
+  ASSERT_FALSE(s.pin_targets.empty());
+  for (int i : s.pinned) EXPECT_LT((s.x0.row(i) - s.pin_targets[0].row(i)).norm(), 1e-12) << "pin " << i;
+  EXPECT_EQ(edges_through_at_start(s), 0);
+}
+
+TEST(SettledStart, NeedsASkinnedGarment) {
+  SceneConfig scene;
+  scene.effects = {"gravity", "pins"};
+  scene.garment.source = "square";
+  scene.pins.top_band = 0.01;
+  scene.body.start = "settled";
+  try {
+    build_scene(scene, "square.yaml");
+    ADD_FAILURE() << "expected an error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("square.yaml: body.start"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace pb4u
