@@ -48,6 +48,10 @@ Garment garment_level(const std::string& name, TriMesh mesh, const Body& body, c
       spdlog::info("{}: {} edges through the body at rest; {} vertices moved out (at most {:.1f} mm) to {} mm clear",
                    label, cleared.edges_through_before, cleared.moved, 1e3 * cleared.largest_move,
                    1e3 * c.rest_clearance);
+    if (cleared.folded_faces > 0)
+      spdlog::warn("{}: clearing the rest mesh of the body folded {} faces: the garment does not fit the body at its "
+                   "bind pose (a limb through its walls); fit it round the body first for a clean rest shape",
+                   label, cleared.folded_faces);
     if (!cleared.clear())
       spdlog::warn("{}: {} edges still through the body at rest and {} vertices within {} mm of it", label,
                    cleared.edges_through, cleared.vertices_inside, 1e3 * c.rest_clearance);

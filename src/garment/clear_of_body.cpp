@@ -1,5 +1,7 @@
 #include "pb4u/garment/clear_of_body.h"
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
 #include <vector>
 
@@ -62,6 +64,14 @@ BodyClearance clear_of_body(TriMesh& garment, const TriMesh& body, double cleara
     const double d = (V.row(i) - start.row(i)).norm();
     out.moved += d > 0 ? 1 : 0;
     out.largest_move = std::max(out.largest_move, d);
+  }
+  if (out.moved > 0) {
+    auto normal = [&](const Eigen::MatrixXd& X, Eigen::Index f) {
+      const Eigen::Vector3d a = X.row(garment.F(f, 0)).transpose(), b = X.row(garment.F(f, 1)).transpose(),
+                            c = X.row(garment.F(f, 2)).transpose();
+      return Eigen::Vector3d((b - a).cross(c - a));
+    };
+    for (Eigen::Index f = 0; f < garment.F.rows(); ++f) out.folded_faces += normal(start, f).dot(normal(V, f)) < 0 ? 1 : 0;
   }
   return out;
 }

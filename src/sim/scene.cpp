@@ -167,6 +167,9 @@ SceneSetup build_scene(const SceneConfig& scene, const std::string& where) {
         spdlog::info("{}: {} edges through the body at its bind pose; {} vertices moved out (at most {:.1f} mm) to "
                      "{} mm clear", path, cleared.edges_through_before, cleared.moved, 1e3 * cleared.largest_move,
                      1e3 * fit.rest_clearance);
+      if (cleared.folded_faces > 0)
+        spdlog::warn("{}: clearing it of the body folded {} faces: the garment does not fit the body at its bind pose",
+                     path, cleared.folded_faces);
       garment.weights = garment_skin_weights(garment.mesh, record->body, fit.skin_weight_options());
     }
   } else {

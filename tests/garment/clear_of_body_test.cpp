@@ -57,6 +57,17 @@ TriMesh sleeve(double R, int sides, int rings = 3) {
   return m;
 }
 
+// A square of n x n cells, `size` m wide, centred on `centre`, in the plane normal to axis
+// `normal` (0: x, 1: y, 2: z).
+TriMesh square(int n, double size, int normal, const Eigen::RowVector3d& centre) {
+  TriMesh m = test::grid_mesh(n, size);  // xz plane at y = 0, [0, size]^2
+  m.V.col(0).array() -= size / 2;
+  m.V.col(2).array() -= size / 2;
+  if (normal != 1) m.V.col(1).swap(m.V.col(normal));
+  m.V.rowwise() += centre;
+  return m;
+}
+
 int edges_through(const TriMesh& garment, const TriMesh& body) {
   return int(segments_through_surface(garment.V, unique_edges(garment.F), body.V, body.F).size());
 }
@@ -74,6 +85,7 @@ TEST(ClearOfBody, ASquareSleeveRoundARoundArmComesOffItByTheClearance) {
   EXPECT_TRUE(c.clear());
   EXPECT_EQ(edges_through(garment, body), 0);
   EXPECT_EQ(c.moved, 12);
+  EXPECT_EQ(c.folded_faces, 0);  // the sleeve widened, not folded
   // Every point of every edge, not only the vertices, at least the clearance off the arm (to
   // the edge's sampling: 15 points between its ends).
   const Eigen::MatrixXi E = unique_edges(garment.F);
@@ -105,17 +117,24 @@ TEST(ClearOfBody, ASleeveThatClearsTheArmIsLeftBitForBit) {
 TEST(ClearOfBody, APatchThroughTheArmComesOutOfIt) {
   const TriMesh body = arm();
   // A 3 x 3 patch in the plane z = 0.02, half inside the arm (|y| < 0.035 there is inside).
-  TriMesh garment = test::grid_mesh(2, 0.1);  // xz plane at y = 0, [0, 0.1]^2
-  garment.V.col(1).swap(garment.V.col(2));    // into the xy plane at z = 0
-  garment.V.col(0).array() -= 0.05;
-  garment.V.col(1).array() -= 0.05;
-  garment.V.col(2).array() += 0.02;
+  TriMesh garment = square(2, 0.1, 2, {0, 0, 0.02});
   ASSERT_LT(signed_distance_to_surface(garment.V, body.V, body.F).minCoeff(), -0.01);
   const BodyClearance c = clear_of_body(garment, body, 0.002);
   EXPECT_TRUE(c.clear());
   EXPECT_GE(signed_distance_to_surface(garment.V, body.V, body.F).minCoeff(), 0.002 * (1 - 1e-6));
   EXPECT_EQ(edges_through(garment, body), 0);
   EXPECT_GT(c.largest_move, 0.02);  // the middle row came up through the arm's top
+}
+
+TEST(ClearOfBody, AWallTheArmPassesThroughIsFoldedAndSaysSo) {
+  const TriMesh body = arm();
+  // A 5 x 5 wall in the plane x = 0 through which the arm (along x) passes, as a boxy garment
+  // file's sleeve wall that a lowered arm pierces: its vertices go out on every side of the arm
+  // and the faces between them turn over. The count says the garment does not fit the body.
+  TriMesh garment = square(4, 0.16, 0, {0, 0, 0});
+  ASSERT_LT(signed_distance_to_surface(garment.V, body.V, body.F).minCoeff(), -0.03);
+  const BodyClearance c = clear_of_body(garment, body, 0.003);
+  EXPECT_GT(c.folded_faces, 0);
 }
 
 }  // namespace
