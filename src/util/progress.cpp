@@ -16,6 +16,14 @@ void Progress::set_quiet(bool quiet) { g_quiet = quiet; }
 bool Progress::enabled() { return !g_quiet && ::isatty(STDERR_FILENO); }
 void Progress::set_log_interval(double seconds) { g_log_interval = seconds; }
 
+double unit_seconds_after(double previous, double seconds, int64_t n, double window) {
+  if (n <= 0) return previous;
+  const double cost = seconds / double(n);
+  if (previous < 0) return cost;
+  const double weight = 1 - std::exp(-seconds / window);
+  return previous + weight * (cost - previous);
+}
+
 std::string format_rate(int64_t done, double elapsed, const std::string& unit) {
   const double rate = elapsed > 0 ? done / elapsed : 0.0;
   char buf[48];
@@ -41,13 +49,16 @@ std::string format_duration(double s) {
 
 Progress::Progress(std::string label, int64_t total, std::string unit)
     : label_(std::move(label)), unit_(std::move(unit)), total_(std::max<int64_t>(total, 1)),
-      start_(std::chrono::steady_clock::now()), last_draw_(start_), last_log_(start_) {
+      start_(std::chrono::steady_clock::now()), last_draw_(start_), last_log_(start_), last_step_(start_) {
   draw(true);
 }
 
 Progress::~Progress() { finish(); }
 
 void Progress::step(int64_t n, const std::string& status) {
+  const auto now = std::chrono::steady_clock::now();
+  unit_seconds_ = unit_seconds_after(unit_seconds_, std::chrono::duration<double>(now - last_step_).count(), n);
+  last_step_ = now;
   done_ = std::min(total_, done_ + n);
   status_ = status;
   draw(done_ == total_);
@@ -75,17 +86,18 @@ void Progress::log_line(std::chrono::steady_clock::time_point now, bool done) {
     std::fprintf(stderr, "%s: %lld/%lld %s in %s, %s\n", label_.c_str(), static_cast<long long>(done_),
                  static_cast<long long>(total_), unit_.c_str(), format_duration(elapsed).c_str(), rate.c_str());
   } else {
-    const double per_unit = done_ > 0 ? elapsed / done_ : NAN;
     std::fprintf(stderr, "%s: %lld/%lld %s (%.0f%%), %s, ETA %s%s%s\n", label_.c_str(),
                  static_cast<long long>(done_), static_cast<long long>(total_), unit_.c_str(),
                  100.0 * double(done_) / double(total_), rate.c_str(),
-                 format_duration(per_unit * double(total_ - done_)).c_str(), status_.empty() ? "" : ", ",
+                 format_duration(eta_seconds()).c_str(), status_.empty() ? "" : ", ",
                  status_.c_str());
   }
   std::fflush(stderr);
   last_log_ = now;
   logged_ = true;
 }
+
+double Progress::eta_seconds() const { return unit_seconds_ < 0 ? NAN : unit_seconds_ * double(total_ - done_); }
 
 void Progress::draw(bool force) {
   if (g_quiet) return;
@@ -98,8 +110,7 @@ void Progress::draw(bool force) {
   if (!force && now - last_draw_ < std::chrono::milliseconds(100)) return;
   last_draw_ = now;
   double elapsed = std::chrono::duration<double>(now - start_).count();
-  double rate = elapsed > 0 ? done_ / elapsed : 0.0;
-  double eta = rate > 0 ? (total_ - done_) / rate : NAN;
+  const double eta = eta_seconds();
   constexpr int kWidth = 24;
   int filled = static_cast<int>(kWidth * done_ / total_);
   std::string bar(filled, '#');

@@ -3,6 +3,7 @@
 // -q. gtest's CaptureStderr sends stderr to a file, so these run as a log would.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <string>
 
 #include "pb4u/util/progress.h"
@@ -56,6 +57,20 @@ TEST_F(ProgressLog, QuietWritesNothing) {
     bar.step(1);
   }
   EXPECT_EQ(testing::internal::GetCapturedStderr(), "");
+}
+
+TEST(ProgressEta, PricesWhatIsLeftAtTheRecentCostOfAUnit) {
+  double cost = unit_seconds_after(-1, 3.0, 30);  // a network's frames: 0.1 s each
+  EXPECT_DOUBLE_EQ(cost, 0.1);
+  for (int i = 0; i < 100; ++i) cost = unit_seconds_after(cost, 0.1, 1);
+  EXPECT_NEAR(cost, 0.1, 1e-12);
+  // Then a solver's frames of 40 s: after one the estimate is 1 - exp(-40/60) of the way there
+  // (an ETA from the mean so far would still price them near 0.5 s), after five nearly there.
+  cost = unit_seconds_after(cost, 40.0, 1);
+  EXPECT_NEAR(cost, 0.1 + (1 - std::exp(-40.0 / 60)) * 39.9, 1e-9);
+  for (int i = 0; i < 4; ++i) cost = unit_seconds_after(cost, 40.0, 1);
+  EXPECT_NEAR(cost, 40.0, 40.0 * std::exp(-200.0 / 60) + 1e-9);
+  EXPECT_DOUBLE_EQ(unit_seconds_after(2.0, 5.0, 0), 2.0);  // no unit done: unchanged
 }
 
 TEST(ProgressRate, UnitsPerSecondOrSecondsPerUnit) {
