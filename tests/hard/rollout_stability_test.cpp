@@ -232,11 +232,11 @@ TEST_F(HardCases, LongRollout1000Frames) {
   hard::check_shipped("long hanging", hanging, small_topology, {}, hanging_reference, no_blow_up);
 }
 
-TEST_F(HardCases, BodyMovingThroughTheGarmentFast) {
-  // A 10 cm box crosses a hanging cloth at 6 m/s (20 cm per frame), straight through it. The
-  // cloth it catches is carried along: its edges to the pins stretch as far as the box drags
-  // them (the reference solver reaches ~9x), so the bound here is kinematic: no vertex moves
-  // faster than twice the box.
+// A 10 cm box crosses a hanging cloth at 6 m/s (20 cm per frame), straight through it. The
+// cloth it catches is carried along: its edges to the pins stretch as far as the box drags
+// them (the reference solver reaches ~9x), so the bound here is kinematic: no vertex moves
+// faster than twice the box.
+void check_box_through_cloth(const std::string& label, const PhysicsConfig& physics) {
   const double lbar = hard::shipped_model().model->mean_edge_length_base();
   const int res = 7 * hard::scale();
   TriMesh cloth = hard::lattice_cloth(res, res, lbar);
@@ -256,10 +256,22 @@ TEST_F(HardCases, BodyMovingThroughTheGarmentFast) {
   hard::Bounds kinematic;
   kinematic.max_stretch = 0;
   kinematic.max_speed = 2 * box_speed;
-  const auto reference = hard::check_reference("box through cloth at 6 m/s", in, {}, kinematic);
+  const auto reference = hard::check_reference(label, in, physics, kinematic);
   kinematic.max_stretch = kNoBlowUp;
   // Letting the box pass through the cloth is what the penetration bound catches.
-  hard::check_shipped("box through cloth at 6 m/s", in, topology, {}, reference, kinematic);
+  hard::check_shipped(label, in, topology, physics, reference, kinematic);
+}
+
+TEST_F(HardCases, BodyMovingThroughTheGarmentFast) { check_box_through_cloth("box through cloth at 6 m/s", {}); }
+
+// The same box with the refinement starting from its own sweep where that leaves less cloth out
+// (given_start: fewer_left_out, not the default): a step that went through the box is not made
+// free of it on the wrong side. Judged as every case is; under the default start the box stays a
+// known gap.
+TEST_F(HardCases, BodyMovingThroughTheGarmentFastRefinedFromItsOwnSweep) {
+  PhysicsConfig physics;
+  physics.solver.given_start = "fewer_left_out";
+  check_box_through_cloth("box through cloth at 6 m/s, fewer left out", physics);
 }
 
 TEST_F(HardCases, HeldOutGarmentOnAHeldOutMotion) {
