@@ -12,7 +12,7 @@
 
 namespace pb4u {
 
-SettledStart settled_start(const Body& body, const Garment& garment, const Pose& first, int steps,
+SettledStart settled_start(const Body& body, const Garment& garment, const Pose& first, const Pose& next, int steps,
                            const Material& material, const std::vector<int>& pinned, double push_out_gap,
                            const PhysicsConfig& physics) {
   if (garment.weights.rows() != garment.mesh.V.rows())
@@ -63,6 +63,11 @@ SettledStart settled_start(const Body& body, const Garment& garment, const Pose&
     if (r.diverged) throw Error("settled start: step " + std::to_string(k + 1) + " of " + std::to_string(steps) + ": " + r.diverged_reason);
     out.excluded_max = std::max(out.excluded_max, log->excluded);
   }
+  // The body is already moving at the first pose: the cloth moves as skinning would move it.
+  auto skin = [&](const Pose& p) {
+    return linear_blend_skinning(garment.mesh.V, garment.weights, skinning_transforms(body.skeleton, body.bind, p));
+  };
+  out.x_prev = out.x - (skin(next) - skin(first));
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return out;
 }

@@ -7,8 +7,6 @@
 #include <filesystem>
 
 #include "pb4u/body/bvh.h"
-#include "pb4u/body/forward_kinematics.h"
-#include "pb4u/body/linear_blend_skinning.h"
 #include "pb4u/body/procedural_motion.h"
 #include "pb4u/data/dataset.h"
 #include "pb4u/data/lbs_frame.h"
@@ -234,17 +232,12 @@ SceneSetup build_scene(const SceneConfig& scene, const std::string& where) {
   if (scene.body.start == "settled") {
     if (!skinned) throw Error(where + ": body.start: settled needs a skinned garment on a dataset's body (body.dataset)");
     const std::vector<int> riding = s.pin_targets.empty() ? std::vector<int>() : s.pinned;
-    const SettledStart st = settled_start(record->body, garment, motion.frames[0], scene.body.settle_steps,
+    const Pose& next = motion.frames[size_t(std::min(1, motion.num_frames() - 1))];
+    const SettledStart st = settled_start(record->body, garment, motion.frames[0], next, scene.body.settle_steps,
                                           scene.material, riding, scene.body.push_out_gap, scene.physics);
     s.x0 = st.x;
     for (int i : riding) s.x0.row(i) = s.pin_targets[0].row(i);
-    // The body is already moving at frame 0: the cloth moves as skinning would move it.
-    const int next = std::min(1, motion.num_frames() - 1);
-    auto skin = [&](int t) {
-      return linear_blend_skinning(garment.mesh.V, garment.weights,
-                                   skinning_transforms(record->body.skeleton, record->body.bind, motion.frames[size_t(t)]));
-    };
-    s.x_prev = s.x0 - (skin(next) - skin(0));
+    s.x_prev = s.x0 - (st.x - st.x_prev);
     spdlog::info("{}: start settled from the bind pose in {} solver steps ({:.1f} s): {} cloth edges through the "
                  "body, {:.2f}% of the vertices inside it; at most {} vertices a step out of barrier contact",
                  where, scene.body.settle_steps, st.seconds, st.edges_through, 100 * st.inside_fraction,

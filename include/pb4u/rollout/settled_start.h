@@ -11,7 +11,8 @@
 // (rotations by slerp, the root linearly). Each step the reference solver (barrier contact; CCD
 // on the body's move) advances the cloth with the velocity skinning would give it, without
 // gravity or friction: the cloth follows the skinning where the body leaves room and is pushed
-// where it does not, so it is never inside the body. The velocity is dropped at the end.
+// where it does not, so it is never inside the body. It then starts with the velocity skinning
+// gives it from the first pose to the next (the body is already moving there).
 #include <Eigen/Core>
 
 #include <vector>
@@ -25,17 +26,18 @@ namespace pb4u {
 
 struct SettledStart {
   Eigen::MatrixXd x;         // n x 3 m: the garment at the first pose
+  Eigen::MatrixXd x_prev;    // n x 3 m: one frame before, x minus the skinned motion to the next pose
   int excluded_max = 0;      // the most vertices a step left out of barrier contact
   int edges_through = 0;     // cloth edges through the body at the first pose
   double inside_fraction = 0;  // share of the cloth vertices inside the body at the first pose
   double seconds = 0;        // wall time of the steps
 };
 
-// `first`: the motion's first pose; steps >= 1. pinned: vertices held on the body (a
+// `first`, `next`: the motion's first pose and the one after it; steps >= 1. pinned: vertices held on the body (a
 // waistband), which follow the skinned garment pushed `push_out_gap` m out of each step's body
 // and are kept where no edge between two of them cuts it. Throws pb4u::Error if the garment has
 // no skinning weights.
-SettledStart settled_start(const Body& body, const Garment& garment, const Pose& first, int steps,
+SettledStart settled_start(const Body& body, const Garment& garment, const Pose& first, const Pose& next, int steps,
                            const Material& material, const std::vector<int>& pinned, double push_out_gap,
                            const PhysicsConfig& physics);
 
