@@ -2,12 +2,12 @@
 // A garment's rest mesh made free of its body at the bind pose.
 //
 // A surface a few millimetres off the body, remeshed coarsely, is a polygon whose chords cut a
-// curved body: four 8 cm edges round a 4 cm arm dip 1.2 cm into it. At its coarsest level the
-// tiny dataset's t-shirt had 36 of its 321 edges through the mannequin at rest, and the imported
-// t-shirt of the quick dataset 50 (edges up to 14 cm at the shoulders). No intersection-free
-// solver can start from such a garment, and pushing the posed cloth out of the body instead
-// stretches it, since its rest lengths stay. Here the rest shape itself moves out, so the
-// garment is a little wider where its mesh is too coarse to follow the body.
+// curved body: four 7 cm edges round a 4 cm arm dip 5 mm into it. At its coarsest level the
+// tiny dataset's t-shirt had 41 of its 321 edges through the mannequin at rest, and the quick
+// dataset's imported t-shirt 232 (its straight sleeves pierced by the lowered arms). No
+// intersection-free solver can start from such a garment, and pushing the posed cloth out of
+// the body instead stretches it, since its rest lengths stay. Here the rest shape itself moves
+// out, so the garment is a little wider where its mesh is too coarse to follow the body.
 #include <Eigen/Core>
 
 #include "pb4u/mesh/triangle_mesh.h"
