@@ -5,7 +5,7 @@
 
 #include "pb4u/physics/barrier_potential.h"
 #include "pb4u/physics/pair_distances.h"
-#include "pb4u/spatial/signed_distance_to_surface.h"
+#include "pb4u/body/project_onto_body.h"
 
 namespace pb4u {
 namespace {
@@ -24,7 +24,7 @@ std::vector<char> vertices_not_free_of(const Eigen::MatrixXd& x, const Eigen::Ma
                                        const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, double d_hat) {
   const ContactSurface body = make_contact_surface(V, F);
   std::vector<char> out(size_t(x.rows()), 0);
-  const Eigen::VectorXd signed_distance = project_onto_surface(x, V, F).distance;
+  const Eigen::VectorXd signed_distance = project_onto_body(x, V, F).distance;
   for (Eigen::Index i = 0; i < x.rows(); ++i)
     if (signed_distance(i) < 0) out[size_t(i)] = 1;
   for (int e : cloth_edges_through_body(x, cloth_edges, body)) out[size_t(cloth_edges(e, 0))] = out[size_t(cloth_edges(e, 1))] = 1;
@@ -58,7 +58,7 @@ int push_pinned_edges_free_of_body(Eigen::MatrixXd& x, const std::vector<int>& p
   for (int round = 0; round < max_rounds && !through.empty(); ++round) {
     std::vector<char> push(pinned.size(), 0);
     for (int e : through) push[size_t(band(e, 0))] = push[size_t(band(e, 1))] = 1;
-    const Eigen::MatrixXd outward = project_onto_surface(p, V, F).outward;
+    const Eigen::MatrixXd outward = project_onto_body(p, V, F).outward;
     for (size_t k = 0; k < pinned.size(); ++k)
       if (push[k]) p.row(Eigen::Index(k)) += step * outward.row(Eigen::Index(k));
     through = cloth_edges_through_body(p, band, body);
@@ -78,7 +78,7 @@ FeasibleStart intersection_free_start(const Eigen::MatrixXd& x_t, const Eigen::M
   std::vector<int> through;
   double offset = d_hat;
   for (int round = 0; round < kMaxPushRounds; ++round, offset *= 2) {
-    const SurfaceProjection p = project_onto_surface(out.x, body_t, body_faces);
+    const SurfaceProjection p = project_onto_body(out.x, body_t, body_faces);
     bool any = false;
     for (Eigen::Index i = 0; i < n; ++i)
       if (p.distance(i) < kPushBelow * d_hat || push[size_t(i)]) {

@@ -2,9 +2,7 @@
 
 #include <vector>
 
-#include "pb4u/body/outer_faces.h"
-#include "pb4u/spatial/signed_distance_to_surface.h"
-#include "pb4u/spatial/winding_number.h"
+#include "pb4u/body/project_onto_body.h"
 #include "pb4u/util/eigen_tensor.h"
 #include "pb4u/util/error.h"
 
@@ -32,23 +30,11 @@ SurfaceContact query_surface_contact(const torch::Tensor& x_next, const BodyFram
   Eigen::MatrixXd points(near.size(), 3);
   for (size_t k = 0; k < near.size(); ++k) points.row(Eigen::Index(k)) = x.row(near[k]);
 
-  const WindingNumbers wraps(V, F);
-  const Eigen::MatrixXi outer = outer_faces(V, F, &wraps);
-  const SurfaceProjection p = SurfaceQuery(V, outer.rows() > 0 ? outer : F).project(points);
-  const Eigen::VectorXi inside = wraps.at(points);
-  Eigen::MatrixXd outward(points.rows(), 3);
-  for (Eigen::Index k = 0; k < points.rows(); ++k) {
-    const Eigen::RowVector3d d = points.row(k) - p.closest.row(k);
-    const double length = d.norm();
-    // On the surface the direction is the pseudo-normal's; elsewhere the winding number says
-    // which way is out, whatever the nearest outer face's side says.
-    if (length < 1e-12)
-      outward.row(k) = p.outward.row(k);
-    else
-      outward.row(k) = (inside(k) >= 1 ? -1.0 : 1.0) * d / length;
-  }
+  // The side from the body's winding number, the distance to its outer faces
+  // (body/project_onto_body.h).
+  const SurfaceProjection p = project_onto_body(points, V, F);
   out.point = matrix_to_tensor(p.closest, x_next.scalar_type(), x_next.device());
-  out.outward = matrix_to_tensor(outward, x_next.scalar_type(), x_next.device());
+  out.outward = matrix_to_tensor(p.outward, x_next.scalar_type(), x_next.device());
   return out;
 }
 
