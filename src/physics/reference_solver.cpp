@@ -32,14 +32,29 @@ namespace {
 // m: the longest move of a vertex (cloth or body) in one line search of the intersection-free solve.
 constexpr double kMaxContactStep = 5e-2;
 // CCD-certified body moves per step (with solver.release_held_cloth: beyond the ones its motion
-// needs at kMaxContactStep each; a limb swinging 70 cm in a frame needs 14); a body not at its
-// pose after them is placed there.
+// needs at kMaxContactStep each; a limb swinging 70 cm in a frame needs 14), a move cut and
+// tried again smaller not counted (kShrinkBelow); a body not at its pose after them is placed
+// there.
 constexpr int kMaxBodyMoves = 24;
 // A body move that some cloth allows less than this fraction of is held back by it (pinched
 // between two body parts, or an edge dragged against a body edge it cannot pass); rounds of
 // leaving that cloth out of barrier contact before the move is taken as it is.
 constexpr double kHeldBelow = 0.1;
 constexpr int kReleaseRounds = 4;
+// A body move cut by CCD below kShrinkBelow of itself is followed by one of what CCD allowed
+// (at least a tenth of it, and no less than kMinBodyMove), one taken whole by one twice as long
+// (up to kMaxContactStep), from iteration to iteration; only a move at kMinBodyMove that is cut
+// counts towards kMaxBodyMoves. The carry (carried_by_body.h) is exact to first order in the
+// move: a 5 cm move of a limb that turns under a 13 cm cloth edge ends its pairs nearer than
+// the carry kept them, and CCD then cut every move that followed to a sliver (the hard cases'
+// jump at speed 2 from the settled start: its first frame's body stalled 246 mm short of its
+// pose, 61 vertices caught); in moves of a centimetre, the cloth relaxing between them, those
+// pairs stay apart. Where few iterations are left (a refinement's 10) an iteration's move is
+// made of up to kMoveParts such parts, each counted as a move, until it has made what the body
+// needs a move to get home.
+constexpr double kShrinkBelow = 0.5;
+constexpr double kMinBodyMove = 1e-3;
+constexpr int kMoveParts = 8;
 // Rounds of Provot's pass and the push out of the body that make a start both intersection-free
 // and within the strain limit (solver.strain_limit).
 constexpr int kStartRounds = 10;
@@ -112,6 +127,7 @@ class IncrementalPotentialSolve {
   double body_left() const;
   void readmit_released();
   bool move_body();
+  double move_body_part(double size, double left, bool* moved);
   // --- one iteration's step ---
   double feasible_step(const torch::Tensor& d, const char** blocked_by);
   bool line_search(const torch::Tensor& d, double slope, double t, torch::Tensor* q_new, torch::Tensor* g_new,
@@ -172,6 +188,7 @@ class IncrementalPotentialSolve {
   torch::Tensor pin_index;
   const Eigen::MatrixXd* body_start = nullptr;  // the body where the solve starts
   int body_moves = 0, moves_allowed = 0;
+  double move_size = kMaxContactStep;  // m: the next part of a body move (kShrinkBelow)
   std::vector<char> released;  // per cloth vertex: left out of contact so that the body could move on
 
   // The step.
@@ -581,11 +598,11 @@ void IncrementalPotentialSolve::readmit_released() {
   set_fallback();
 }
 
-// The body's move of this iteration: what is left of its motion (capped), the cloth it
-// touches carried along and the pins by the same share of what is left of theirs, all cut to
-// what CCD certifies. False when nothing moved.
+// The body's move of this iteration, the cloth it touches carried along and the pins by the
+// same share of what is left of theirs, in CCD-certified parts (move_body_part; kShrinkBelow).
+// False when nothing moved.
 bool IncrementalPotentialSolve::move_body() {
-  const double left = body_left();
+  double left = body_left();
   if (left <= 0) return false;
   if (body_moves == 0)
     moves_allowed = kMaxBodyMoves + (config.release_held_cloth ? int(std::ceil(left / kMaxContactStep)) : 0);
@@ -593,7 +610,34 @@ bool IncrementalPotentialSolve::move_body() {
     place_body(left);
     return true;
   }
-  const double share = left > kMaxContactStep ? kMaxContactStep / left : 1.0;
+  // One part, unless the iterations left need more of the motion in this one to bring the
+  // body home (a refinement's few): then parts until that much is made.
+  const double needed = left / double(std::max(1, config.max_iterations - result.iterations));
+  double done = 0;
+  bool moved = false;
+  for (int part = 0; part < kMoveParts && left > 0; ++part) {
+    if (part > 0 && ++body_moves > moves_allowed) {  // each part is a move
+      place_body(left);
+      return true;
+    }
+    const double size = std::min(move_size, left);
+    const double t = move_body_part(size, left, &moved);
+    const bool cut = t < kShrinkBelow;
+    move_size = cut ? std::max(kMinBodyMove, move_size * std::max(0.1, t)) : std::min(kMaxContactStep, 2 * move_size);
+    if (cut && move_size > kMinBodyMove) --body_moves;  // held back, tried again smaller: not counted
+    if (!(t > 0) && move_size <= kMinBodyMove) break;
+    done += t * size;
+    left = body_left();
+    if (done >= needed) break;
+  }
+  return moved;
+}
+
+// One part of a body move: `size` m of the `left` still to go, cut to what CCD certifies.
+// Returns the share of the part taken; *moved is set when the body, a pin or the cloth's
+// contact changed.
+double IncrementalPotentialSolve::move_body_part(double size, double left, bool* moved) {
+  const double share = left > size ? size / left : 1.0;
   const Eigen::MatrixXd DB = share * (barrier->body_next - body.V);
   const Eigen::MatrixXd X = positions(q);
   Eigen::MatrixXd D = carried_by_body(X, barrier->cloth_edges, body, DB, excluded, barrier->settings.d_hat / 2,
@@ -629,15 +673,19 @@ bool IncrementalPotentialSolve::move_body() {
     drop_pairs_of(excluded, barrier->cloth_edges, &candidates);
     t = max_safe_step(X, D, barrier->cloth_edges, body, DB, candidates);
   }
-  if (released_now) set_fallback();  // the objective changed: the caller evaluates it again
-  if (!(t > 0)) return released_now;
+  if (released_now) {
+    set_fallback();  // the objective changed: the caller evaluates it again
+    *moved = true;
+  }
+  if (!(t > 0)) return 0;
   // A full step lands exactly on the pose and the pins' targets (no rounding left over).
   const bool home = t >= 1 && share >= 1;
   body.V = home ? barrier->body_next : Eigen::MatrixXd(body.V + t * DB);
   move_pins(home ? pin_target : Eigen::MatrixXd(pin_now + t * DP));
   q = q + t * free_coordinates(D, free, opts);
   if (home) readmit_released();
-  return true;
+  *moved = true;
+  return std::min(t, 1.0);
 }
 
 // The share of the step d that crosses nothing: no pair through the body (CCD), no edge past the
