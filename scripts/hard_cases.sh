@@ -20,25 +20,26 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 BUILD=${PB4U_BUILD_DIR:-build}
-if [ "${1:-}" = "--step" ]; then
-  case "${2:-}" in
-    quasi_newton|newton) export PB4U_HARD_SOLVER_STEP=$2 ;;
-    *) echo "hard_cases.sh: --step: '${2:-}' is not quasi_newton or newton" >&2; exit 2 ;;
+# The options, in any order, before --known-gaps or SCALE.
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --step)
+      case "${2:-}" in
+        quasi_newton|newton) export PB4U_HARD_SOLVER_STEP=$2 ;;
+        *) echo "hard_cases.sh: --step: '${2:-}' is not quasi_newton or newton" >&2; exit 2 ;;
+      esac ;;
+    --solver)
+      [ -n "${2:-}" ] || { echo "hard_cases.sh: --solver needs KEY=VALUE[,KEY=VALUE...]" >&2; exit 2; }
+      export PB4U_HARD_SOLVER=$2 ;;
+    --start)
+      case "${2:-}" in
+        skinned|settled) export PB4U_HARD_START=$2 ;;
+        *) echo "hard_cases.sh: --start: '${2:-}' is not skinned or settled" >&2; exit 2 ;;
+      esac ;;
+    *) break ;;
   esac
   shift 2
-fi
-if [ "${1:-}" = "--solver" ]; then
-  [ -n "${2:-}" ] || { echo "hard_cases.sh: --solver needs KEY=VALUE[,KEY=VALUE...]" >&2; exit 2; }
-  export PB4U_HARD_SOLVER=$2
-  shift 2
-fi
-if [ "${1:-}" = "--start" ]; then
-  case "${2:-}" in
-    skinned|settled) export PB4U_HARD_START=$2 ;;
-    *) echo "hard_cases.sh: --start: '${2:-}' is not skinned or settled" >&2; exit 2 ;;
-  esac
-  shift 2
-fi
+done
 if [ "${1:-}" = "--known-gaps" ]; then
   SCALE=${2:-1}
   FILTER=$(grep -E '^[A-Za-z]' tests/hard/known_gaps.txt | paste -sd: -)
