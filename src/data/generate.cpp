@@ -42,20 +42,7 @@ Garment garment_level(const std::string& name, TriMesh mesh, const Body& body, c
   Garment g;
   g.name = name;
   g.mesh = std::move(mesh);
-  if (c.rest_clearance > 0) {
-    const BodyClearance cleared = clear_of_body(g.mesh, body.mesh, c.rest_clearance);
-    if (cleared.moved > 0)
-      spdlog::info("{}: {} edges through the body at rest; {} vertices moved out (at most {:.1f} mm) to {} mm clear",
-                   label, cleared.edges_through_before, cleared.moved, 1e3 * cleared.largest_move,
-                   1e3 * c.rest_clearance);
-    if (cleared.folded_faces > 0)
-      spdlog::warn("{}: clearing the rest mesh of the body folded {} faces: the garment does not fit the body at its "
-                   "bind pose (a limb through its walls); fit it round the body first for a clean rest shape",
-                   label, cleared.folded_faces);
-    if (!cleared.clear())
-      spdlog::warn("{}: {} edges still through the body at rest and {} vertices within {} mm of it", label,
-                   cleared.edges_through, cleared.vertices_inside, 1e3 * c.rest_clearance);
-  }
+  if (c.rest_clearance > 0) clear_of_body_logged(g.mesh, body.mesh, c.rest_clearance, label);
   g.weights = garment_skin_weights(g.mesh, body, c.skin_weight_options());
   return g;
 }

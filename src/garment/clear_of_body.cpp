@@ -1,6 +1,7 @@
 #include "pb4u/garment/clear_of_body.h"
 
 #include <Eigen/Geometry>
+#include <spdlog/spdlog.h>
 
 #include <algorithm>
 #include <vector>
@@ -74,6 +75,21 @@ BodyClearance clear_of_body(TriMesh& garment, const TriMesh& body, double cleara
     for (Eigen::Index f = 0; f < garment.F.rows(); ++f) out.folded_faces += normal(start, f).dot(normal(V, f)) < 0 ? 1 : 0;
   }
   return out;
+}
+
+BodyClearance clear_of_body_logged(TriMesh& garment, const TriMesh& body, double clearance, const std::string& label) {
+  const BodyClearance cleared = clear_of_body(garment, body, clearance);
+  if (cleared.moved > 0)
+    spdlog::info("{}: {} edges through the body at rest; {} vertices moved out (at most {:.1f} mm) to {} mm clear", label,
+                 cleared.edges_through_before, cleared.moved, 1e3 * cleared.largest_move, 1e3 * clearance);
+  if (cleared.folded_faces > 0)
+    spdlog::warn("{}: clearing the rest mesh of the body folded {} faces: the garment does not fit the body at its "
+                 "bind pose (a limb through its walls); fit it round the body first for a clean rest shape",
+                 label, cleared.folded_faces);
+  if (!cleared.clear())
+    spdlog::warn("{}: {} edges still through the body at rest and {} vertices within {} mm of it", label,
+                 cleared.edges_through, cleared.vertices_inside, 1e3 * clearance);
+  return cleared;
 }
 
 }  // namespace pb4u

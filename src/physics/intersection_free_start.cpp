@@ -55,10 +55,12 @@ int push_pinned_edges_free_of_body(Eigen::MatrixXd& x, const std::vector<int>& p
   for (size_t k = 0; k < pinned.size(); ++k) p.row(Eigen::Index(k)) = x.row(pinned[k]);
   const ContactSurface body = make_contact_surface(V, F);
   std::vector<int> through = cloth_edges_through_body(p, band, body);
+  if (through.empty()) return 0;
+  const BodyProjection side(V, F);
   for (int round = 0; round < max_rounds && !through.empty(); ++round) {
     std::vector<char> push(pinned.size(), 0);
     for (int e : through) push[size_t(band(e, 0))] = push[size_t(band(e, 1))] = 1;
-    const Eigen::MatrixXd outward = project_onto_body(p, V, F).outward;
+    const Eigen::MatrixXd outward = side.project(p).outward;
     for (size_t k = 0; k < pinned.size(); ++k)
       if (push[k]) p.row(Eigen::Index(k)) += step * outward.row(Eigen::Index(k));
     through = cloth_edges_through_body(p, band, body);
@@ -77,8 +79,9 @@ FeasibleStart intersection_free_start(const Eigen::MatrixXd& x_t, const Eigen::M
   std::vector<char> moved(size_t(n), 0), push(size_t(n), 0);
   std::vector<int> through;
   double offset = d_hat;
+  const BodyProjection side(body_t, body_faces);
   for (int round = 0; round < kMaxPushRounds; ++round, offset *= 2) {
-    const SurfaceProjection p = project_onto_body(out.x, body_t, body_faces);
+    const SurfaceProjection p = side.project(out.x);
     bool any = false;
     for (Eigen::Index i = 0; i < n; ++i)
       if (p.distance(i) < kPushBelow * d_hat || push[size_t(i)]) {

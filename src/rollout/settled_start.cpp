@@ -21,11 +21,13 @@ SettledStart settled_start(const Body& body, const Garment& garment, const Pose&
   const auto t0 = std::chrono::steady_clock::now();
   Motion path;
   for (int k = 0; k <= steps; ++k) path.frames.push_back(blend_poses(body.bind, first, double(k) / steps));
+  auto skin = [&](const Pose& p) {
+    return linear_blend_skinning(garment.mesh.V, garment.weights, skinning_transforms(body.skeleton, body.bind, p));
+  };
   std::vector<Eigen::MatrixXd> bodies, skinned;
   for (const Pose& p : path.frames) {
     bodies.push_back(pose_body(body, p));
-    skinned.push_back(linear_blend_skinning(garment.mesh.V, garment.weights,
-                                            skinning_transforms(body.skeleton, body.bind, p)));
+    skinned.push_back(skin(p));
   }
   // Barrier contact whatever the scene's solver: the steps exist to keep the cloth out of the body.
   PhysicsConfig barrier = physics;
@@ -64,10 +66,7 @@ SettledStart settled_start(const Body& body, const Garment& garment, const Pose&
     out.excluded_max = std::max(out.excluded_max, log->excluded);
   }
   // The body is already moving at the first pose: the cloth moves as skinning would move it.
-  auto skin = [&](const Pose& p) {
-    return linear_blend_skinning(garment.mesh.V, garment.weights, skinning_transforms(body.skeleton, body.bind, p));
-  };
-  out.x_prev = out.x - (skin(next) - skin(first));
+  out.x_prev = out.x - (skin(next) - skinned.back());
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return out;
 }

@@ -160,14 +160,7 @@ SceneSetup build_scene(const SceneConfig& scene, const std::string& where) {
     if (skeleton_body) {
       // Around the body's bind pose, as a dataset's garments: its rest mesh cleared of the body first.
       const GarmentTemplateConfig fit;
-      const BodyClearance cleared = clear_of_body(garment.mesh, record->body.mesh, fit.rest_clearance);
-      if (cleared.moved > 0)
-        spdlog::info("{}: {} edges through the body at its bind pose; {} vertices moved out (at most {:.1f} mm) to "
-                     "{} mm clear", path, cleared.edges_through_before, cleared.moved, 1e3 * cleared.largest_move,
-                     1e3 * fit.rest_clearance);
-      if (cleared.folded_faces > 0)
-        spdlog::warn("{}: clearing it of the body folded {} faces: the garment does not fit the body at its bind pose",
-                     path, cleared.folded_faces);
+      clear_of_body_logged(garment.mesh, record->body.mesh, fit.rest_clearance, path);
       garment.weights = garment_skin_weights(garment.mesh, record->body, fit.skin_weight_options());
     }
   } else {

@@ -13,8 +13,23 @@
 #include <Eigen/Core>
 
 #include "pb4u/spatial/signed_distance_to_surface.h"
+#include "pb4u/spatial/winding_number.h"
 
 namespace pb4u {
+
+// One posed body prepared for many queries (its winding numbers, outer faces and their
+// KD-tree built once): the rounds of a start push the same cloth out of the same body.
+class BodyProjection {
+ public:
+  // V: nb x 3 (m); F: mb x 3, closed and outward. Throws pb4u::Error on an empty body.
+  BodyProjection(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F);
+  // project_onto_body(points, V, F), below.
+  SurfaceProjection project(const Eigen::MatrixXd& points) const;
+
+ private:
+  WindingNumbers wraps_;
+  SurfaceQuery outer_;
+};
 
 // points: n x 3 (m); V: nb x 3 (m); F: mb x 3, closed and outward. Per point: the signed
 // distance to the outer faces (negative where the body wraps the point at least once), the

@@ -10,6 +10,8 @@
 // out, so the garment is a little wider where its mesh is too coarse to follow the body.
 #include <Eigen/Core>
 
+#include <string>
+
 #include "pb4u/mesh/triangle_mesh.h"
 
 namespace pb4u {
@@ -38,5 +40,10 @@ struct BodyClearance {
 // against garment faces: a coarse face over a convex body part can still dip into it between
 // its clear edges (the tiny skirt at level 1: 17 body edges through its faces at rest).
 BodyClearance clear_of_body(TriMesh& garment, const TriMesh& body, double clearance, int max_rounds = 30);
+
+// clear_of_body, and what it did logged under `label` (a file or a dataset's garment level):
+// how far it moved the garment, and a warning where it folded faces (a garment that does not
+// fit its body) or could not clear the garment. What generate and simulate run on a garment.
+BodyClearance clear_of_body_logged(TriMesh& garment, const TriMesh& body, double clearance, const std::string& label);
 
 }  // namespace pb4u
