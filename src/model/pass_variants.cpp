@@ -6,18 +6,21 @@ namespace pb4u {
 
 std::vector<ModelFile> pass_variants(const std::vector<ModelFile>& models, const std::vector<std::string>& passes,
                                      const std::string& key) {
-  if (passes.empty()) throw Error(key + ": at least one entry (shipped | none | projection_strain)");
+  const std::string known = "(shipped | none | projection_strain | refined)";
+  if (passes.empty()) throw Error(key + ": at least one entry " + known);
   for (const auto& p : passes)
-    if (p != "shipped" && p != "none" && p != "projection_strain")
-      throw Error(key + ": unknown entry '" + p + "' (shipped | none | projection_strain)");
+    if (p != "shipped" && p != "none" && p != "projection_strain" && p != "refined")
+      throw Error(key + ": unknown entry '" + p + "' " + known);
   std::vector<ModelFile> out;
   for (const ModelFile& m : models) {
     std::vector<ModelConfig> seen;
     for (const auto& p : passes) {
       ModelFile v = m;
       if (p != "shipped") {
-        v.config.refine_iterations = 0;
-        v.config.refine_tolerance_mm = 0;
+        const bool refined = p == "refined";
+        v.config.refine_iterations = refined ? kTableRefineIterations : 0;
+        v.config.refine_tolerance_mm = refined ? kTableRefineToleranceMm : 0;
+        if (refined) v.config.refine_contact = "barrier";
         v.config.contact_projection = p == "none" ? 0.0 : kShippedProjectionGap;
         v.config.strain_limit = p == "none" ? 0.0 : kShippedStrainLimit;
       }

@@ -29,6 +29,15 @@ TEST(PassVariants, EachNetworkAloneBesideItsOwnPassesDuplicatesDropped) {
   EXPECT_DOUBLE_EQ(v[1].config.contact_projection, kShippedProjectionGap);
   EXPECT_DOUBLE_EQ(v[1].config.strain_limit, kShippedStrainLimit);
   EXPECT_EQ(files[1].config.contact_projection, 0.0);  // the file itself unchanged
+  // Refined: the two passes, then the reference solver with barrier contact, for any model.
+  v = pass_variants(files, {"none", "refined"});
+  const std::string refined_passes = " + projection + strain limit + 10 it + to 1 mm (barrier)";
+  EXPECT_EQ(names_of(v), (std::vector<std::string>{"Pb4U", "Pb4U" + refined_passes, "MGN", "MGN" + refined_passes}));
+  EXPECT_EQ(v[3].config.refine_iterations, kTableRefineIterations);
+  EXPECT_DOUBLE_EQ(v[3].config.refine_tolerance_mm, kTableRefineToleranceMm);
+  EXPECT_EQ(v[3].config.refine_contact, "barrier");
+  EXPECT_DOUBLE_EQ(v[3].config.contact_projection, kShippedProjectionGap);
+  EXPECT_EQ(v[2].config.refine_iterations, 0);
   // A refined file alone loses its refinement too.
   ModelFile refined = files[0];
   refined.config.refine_iterations = 5;

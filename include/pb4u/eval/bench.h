@@ -31,8 +31,8 @@ struct BenchConfig {
   double push_out_gap = 0.004;          // m, as in training and evaluation
   std::vector<std::string> checkpoints;  // models run with their own K (training or export files)
   // Each checkpoint under these inference passes (model/pass_variants.h: shipped | none |
-  // projection_strain), its variants together; e.g. [none, shipped]: each network alone beside
-  // the file's own passes.
+  // projection_strain | refined), its variants together; e.g. [none, shipped]: each network
+  // alone beside the file's own passes.
   std::vector<std::string> passes{"shipped"};
   std::vector<std::string> names;        // names of the first runs of those (optional), in order
   std::vector<int> k_values;             // fixed-K runs of the first Pb4U checkpoint (Figure 5)
