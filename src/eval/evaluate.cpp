@@ -19,6 +19,7 @@
 #include "pb4u/io/preview.h"
 #include "pb4u/util/atomic_file.h"
 #include "pb4u/util/error.h"
+#include "pb4u/util/median.h"
 #include "pb4u/util/number_format.h"
 #include "pb4u/util/progress.h"
 
@@ -271,6 +272,7 @@ std::vector<LevelResult> evaluate(const EvalConfig& config, const std::vector<Ev
       PhysicsConfig physics = config.physics;  // the solver's contact as the method names it
       if (!method.model && !method.solver_contact.empty()) physics.solver.contact = method.solver_contact;
       auto t0 = std::chrono::steady_clock::now();
+      std::vector<double> step_ms;  // every frame's contact query + step
       for (const Sequence& s : sequences) {
         const Garment& garment = *s.garment;
         RolloutInput in = sequence_input(config, effects, s);
@@ -306,6 +308,8 @@ std::vector<LevelResult> evaluate(const EvalConfig& config, const std::vector<Ev
           bar.step(1, status);
         };
         RolloutResult r = run_rollout(in, step, measured, on_frame);
+        for (size_t f = 0; f < r.step_ms.size() && f < r.contact_ms.size(); ++f)
+          step_ms.push_back(r.step_ms[f] + r.contact_ms[f]);
         bar.step(std::max<int64_t>(in.steps - frames_done, 0), status);  // a rollout the guard stopped
         SequenceResult q = sequence_result(s, r);
         if (!config.frames_dir.empty())
@@ -339,6 +343,7 @@ std::vector<LevelResult> evaluate(const EvalConfig& config, const std::vector<Ev
         mr.per_sequence.push_back(std::move(q));
       }
       mr.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      mr.step_ms = median(step_ms);
       if (!sequence_means.empty()) mr.mean = mean_report(sequence_means);
       if (!sequence_penetration.empty()) mr.penetration = summarize_penetration(sequence_penetration);
       if (lr.K == 0 && method.model && method.model->config.is_pb4u()) lr.K = mr.K;
@@ -390,6 +395,13 @@ std::string format_table(const std::vector<LevelResult>& levels) {
       }
       out << "\n";
     }
+    out << "Step ms" << std::string(w0 - 7, ' ');
+    for (size_t i = 0; i < lr.methods.size(); ++i) {
+      const double ms = lr.methods[i].step_ms;
+      const std::string cell = std::isfinite(ms) ? fixed(ms, 1) + " " : "n/a ";
+      out << std::string(widths[i] - std::min(widths[i], cell.size()), ' ') << cell;
+    }
+    out << "\n";
     for (const auto& m : lr.methods) {
       if (m.diverged)
         out << "  " << m.name << ": diverged at frame " << m.diverged_at_frame << " (" << m.diverged_sequence
@@ -397,7 +409,8 @@ std::string format_table(const std::vector<LevelResult>& levels) {
     }
     out << "\n";
   }
-  out << "* lowest value in the row. Energies in J, per frame, averaged over frames and sequences.\n";
+  out << "* lowest value in the row. Energies in J, per frame, averaged over frames and sequences. Step ms: the\n"
+         "median over frames of one step's wall time (body contact query and step, measuring not included).\n";
   if (any_penetration)
     out << "Inside %: garment vertices inside the body, mean over frames and sequences (max: worst frame);\n"
            "Depth max mm: the deepest garment vertex on any frame; Edges thru: cloth edges through a body\n"
@@ -419,14 +432,15 @@ std::string format_csv(const std::vector<LevelResult>& levels) {
   out << "level,triangles,vertices,method,K,term,value,diverged,diverged_at_frame\n";
   for (const auto& lr : levels)
     for (const auto& m : lr.methods) {
-      for (const auto& row : level_rows(lr)) {
-        auto v = value_of(m, row);
-        std::string name = m.name;
-        if (name.find(',') != std::string::npos) name = "\"" + name + "\"";
+      std::string name = m.name;
+      if (name.find(',') != std::string::npos) name = "\"" + name + "\"";
+      auto line = [&](const std::string& row, std::optional<double> v) {
         out << lr.level << "," << lr.triangles << "," << lr.vertices << "," << name << "," << m.K << "," << row
             << "," << (v ? eval_csv_number(*v) : "") << "," << (m.diverged ? "true" : "false") << ","
             << (m.diverged ? std::to_string(m.diverged_at_frame) : "") << "\n";
-      }
+      };
+      for (const auto& row : level_rows(lr)) line(row, value_of(m, row));
+      line("step_ms", std::isfinite(m.step_ms) ? std::optional<double>(m.step_ms) : std::nullopt);
     }
   return out.str();
 }
@@ -489,6 +503,7 @@ std::string format_json(const std::vector<LevelResult>& levels) {
       for (const auto& q : m.per_sequence) sequences.push_back(eval_json_sequence(q, rows));
       method["K"] = m.K;
       method["frames"] = m.frames;
+      method["step_ms"] = eval_json_figure(m.step_ms);
       eval_add_divergence(method, m.diverged, m.diverged_at_frame, m.diverged_reason);
       methods[m.name] = std::move(method);
     }

@@ -319,6 +319,10 @@ TEST(Evaluate, WithoutGravityTheTermIsAbsent) {
   const nlohmann::json& method = report.at("levels")[0].at("methods").at("Pb4U");
   EXPECT_TRUE(method.contains("collision")) << method;
   EXPECT_FALSE(method.contains("gravity")) << method;
+  // One step's median wall time, beside the figures.
+  EXPECT_GT(method.at("step_ms").get<double>(), 0.0) << method;
+  EXPECT_NE(format_table(levels).find("Step ms"), std::string::npos);
+  EXPECT_NE(format_csv(levels).find(",step_ms,"), std::string::npos);
   for (const auto& sequence : method.at("sequences")) EXPECT_FALSE(sequence.contains("gravity")) << sequence;
 }
 

@@ -51,8 +51,8 @@ struct EvalConfig {
   DivergenceConfig divergence;  // when a rollout stops as diverged
   RefineConfig refine;          // the networks' steps refined by the reference solver (physics.solver)
   // Each --checkpoint under these inference passes (model/pass_variants.h: shipped | none |
-  // projection_strain), its variants side by side; [none, shipped]: each network alone beside
-  // the file's own passes.
+  // projection_strain | refined), its variants side by side; [none, shipped]: each network
+  // alone beside the file's own passes.
   std::vector<std::string> passes{"shipped"};
   // When set, a PNG contact sheet (sim/preview.h) of the first network method's worst
   // sequence: the one with the largest mean positive energy over every level.
@@ -110,7 +110,11 @@ struct MethodResult {
   std::string diverged_sequence;     // "<garment>/<motion>" of that earliest divergence
   std::string diverged_reason;       // and why it stopped
   std::vector<SequenceResult> per_sequence;  // every rollout, in evaluation order
-  double seconds = 0;                // wall time of the rollouts
+  double seconds = 0;                // wall time of the rollouts, measuring included
+  // Median over the frames of one step's wall time (ms): the body contact query and the step
+  // (a network's with its passes and refinement, or the solver's), as bench's latency; NaN
+  // without a frame.
+  double step_ms = 0;
 };
 
 struct LevelResult {
