@@ -20,6 +20,7 @@ std::vector<ModelFile> pass_variants(const std::vector<ModelFile>& models, const
         const bool refined = p == "refined";
         v.config.refine_iterations = refined ? kTableRefineIterations : 0;
         v.config.refine_tolerance_mm = refined ? kTableRefineToleranceMm : 0;
+        v.config.refine_strain_limit = 0;  // the same refinement for every file, none of its own
         if (refined) v.config.refine_contact = "barrier";
         v.config.contact_projection = p == "none" ? 0.0 : kShippedProjectionGap;
         v.config.strain_limit = p == "none" ? 0.0 : kShippedStrainLimit;

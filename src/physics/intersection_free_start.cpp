@@ -3,9 +3,9 @@
 #include <algorithm>
 #include <array>
 
+#include "pb4u/body/project_onto_body.h"
 #include "pb4u/physics/barrier_potential.h"
 #include "pb4u/physics/pair_distances.h"
-#include "pb4u/body/project_onto_body.h"
 
 namespace pb4u {
 namespace {

@@ -38,6 +38,14 @@ TEST(PassVariants, EachNetworkAloneBesideItsOwnPassesDuplicatesDropped) {
   EXPECT_EQ(v[3].config.refine_contact, "barrier");
   EXPECT_DOUBLE_EQ(v[3].config.contact_projection, kShippedProjectionGap);
   EXPECT_EQ(v[2].config.refine_iterations, 0);
+  // A file's own strain barrier in its refinement is not carried into `refined`.
+  ModelFile barrier_refined = files[1];
+  barrier_refined.config.refine_iterations = 3;
+  barrier_refined.config.refine_strain_limit = 0.1;
+  v = pass_variants({barrier_refined}, {"shipped", "refined"});
+  ASSERT_EQ(v.size(), 2u);
+  EXPECT_EQ(v[1].config.refine_strain_limit, 0.0);
+  EXPECT_EQ(names_of(v)[1], "MGN" + refined_passes);
   // A refined file alone loses its refinement too.
   ModelFile refined = files[0];
   refined.config.refine_iterations = 5;
