@@ -17,7 +17,9 @@
 #   --split NAME  motions of this split instead of "heldout" (e.g. test, for a dataset without it)
 #   --dataset F   another generated dataset (default: the configs', data/generated/quick/quick.h5)
 #   --threads N   torch threads for pb4u (default 1)
-#   --set K=V     any evaluate-config override for both cases, e.g. --set levels=[1] (repeatable)
+#   --set K=V     any evaluate-config override for both cases, e.g. --set levels=[1] (repeatable);
+#                 --case body --set start=settled starts every method from the frame the solver
+#                 reaches from the bind pose (docs/evaluation.md)
 # The full run rolls the solver out for 300 frames per sequence: hours on a CPU. The solver does
 # not depend on the networks, so its run is kept in DIR/<case>.reference.json beside the
 # settings it ran with (config, overrides, dataset file, pb4u's version) and reused while they

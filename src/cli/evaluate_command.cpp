@@ -21,11 +21,12 @@ void add_evaluate_command(CLI::App& app, const GlobalOptions& global) {
       "penetration. Without a body (effects [gravity, pins]) each garment hangs from rest, pinned by\n"
       "pins.top_band. A rollout that goes non-finite, or whose positive energy exceeds\n"
       "divergence.energy_ratio x frame 1's, is reported as diverged at frame N; averages use the\n"
-      "frames measured. --format json also lists every sequence.");
+      "frames measured. --format json also lists every sequence. --start settled starts every method\n"
+      "from the first frame the reference solver reaches from the bind pose instead.");
   struct Args {
     std::string device = "cpu";
     std::vector<std::string> checkpoints, names, methods, sets;
-    std::string config, format = "table", preview, frames_dir;
+    std::string config, format = "table", preview, frames_dir, start;
     int refine = -1;
     double refine_tolerance = -1;
   };
@@ -46,6 +47,11 @@ void add_evaluate_command(CLI::App& app, const GlobalOptions& global) {
                   "Refine each network step until the solver's step is below MM millimetres; with --refine N, "
                   "N iterations first, then on until below MM (refine.tolerance_mm)")
       ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--start", args->start,
+                  "How frame 0 is reached (config key start): skinned (the garment skinned to the start pose and "
+                  "pushed out of the body, as in training) | settled (carried there by the reference solver from "
+                  "the bind pose in settle_steps steps, free of the body; once per sequence, for every method)")
+      ->check(CLI::IsMember({"skinned", "settled"}));
   cmd->add_option("--set", args->sets, "Override a config key, e.g. --set max_frames=10 (repeatable)");
   cmd->add_option("--format", args->format, "table | csv | json")->check(CLI::IsMember({"table", "csv", "json"}));
   cmd->add_option("--preview", args->preview,
@@ -60,6 +66,7 @@ void add_evaluate_command(CLI::App& app, const GlobalOptions& global) {
     std::vector<std::string> sets = args->sets;
     if (!args->preview.empty()) sets.push_back("preview=" + args->preview);
     if (!args->frames_dir.empty()) sets.push_back("frames_dir=" + args->frames_dir);
+    if (!args->start.empty()) sets.push_back("start=" + args->start);
     if (args->refine >= 0) sets.push_back("refine.iterations=" + std::to_string(args->refine));
     if (args->refine_tolerance >= 0) sets.push_back(fmt::format("refine.tolerance_mm={}", args->refine_tolerance));
     const EvalConfig config = load_config<EvalConfig>(args->config, sets);

@@ -15,6 +15,7 @@
 #include "pb4u/data/dataset.h"
 #include "pb4u/eval/frames_csv.h"
 #include "pb4u/rollout/rollout.h"
+#include "pb4u/rollout/settled_start.h"
 #include "pb4u/scene/pins.h"
 #include "pb4u/io/preview.h"
 #include "pb4u/util/atomic_file.h"
@@ -192,6 +193,40 @@ RolloutInput sequence_input(const EvalConfig& config, const Effects& effects, co
   return in;
 }
 
+// A sequence's frame 0 and the frame before it.
+struct StartState {
+  Eigen::MatrixXd x0, x_prev;
+};
+
+// With start: settled, each sequence's first frame reached by the reference solver from the bind
+// pose (as a scene's body.start: settled), once for every method; empty entries keep the skinned
+// start.
+std::vector<std::optional<StartState>> settled_starts(const EvalConfig& config, const Effects& effects,
+                                                      const std::vector<Sequence>& sequences) {
+  std::vector<std::optional<StartState>> starts(sequences.size());
+  if (config.start != "settled") return starts;
+  for (size_t i = 0; i < sequences.size(); ++i) {
+    const Sequence& s = sequences[i];
+    const RolloutInput in = sequence_input(config, effects, s);
+    const Motion& motion = s.motion->motion;
+    const Pose& first = motion.frames[size_t(config.start_frame)];
+    const Pose& next = motion.frames[size_t(std::min(config.start_frame + 1, motion.num_frames() - 1))];
+    // Pins that ride on the body (a waistband) follow the skinned garment while it settles.
+    const std::vector<int> riding = in.pin_targets.empty() ? std::vector<int>() : in.pinned;
+    const SettledStart st = settled_start(*s.body, *s.garment, first, next, config.settle_steps, config.material,
+                                          riding, config.push_out_gap, config.physics);
+    StartState start{st.x, Eigen::MatrixXd()};
+    for (int v : riding) start.x0.row(v) = in.pin_targets[0].row(v);
+    start.x_prev = start.x0 - (st.x - st.x_prev);
+    spdlog::info("{} on {}: start settled from the bind pose in {} solver steps ({:.1f} s): {} cloth edges through "
+                 "the body, {:.2f}% of the vertices inside it; at most {} vertices a step out of barrier contact",
+                 s.garment->name, s.motion->name, config.settle_steps, st.seconds, st.edges_through,
+                 100 * st.inside_fraction, st.excluded_max);
+    starts[i] = std::move(start);
+  }
+  return starts;
+}
+
 SequenceResult sequence_result(const Sequence& s, const RolloutResult& r) {
   SequenceResult q;
   q.body = s.body->name;
@@ -224,6 +259,9 @@ std::vector<LevelResult> evaluate(const EvalConfig& config, const std::vector<Ev
   if (!effects.needs_body() && config.max_frames <= 0)
     throw Error("max_frames: without a body (no collision or friction among the effects) each garment starts "
                 "at rest and the rollout length must be set (max_frames > 0)");
+  if (config.start == "settled" && !effects.needs_body())
+    throw Error("start: settled moves the garment with a body from its bind pose; without a body (no collision or "
+                "friction among the effects) every garment starts at rest");
   if (!effects.needs_body() && !config.motions.empty())
     throw Error("motions: without a body each garment hangs from rest and follows no motion (leave motions empty)");
   const Dataset data = read_dataset(config.dataset);
@@ -247,6 +285,7 @@ std::vector<LevelResult> evaluate(const EvalConfig& config, const std::vector<Ev
       throw Error("levels: level " + std::to_string(level) + " is not in " + config.dataset + " (it has " +
                   std::to_string(data.level_triangles.size()) + " levels)");
     const std::vector<Sequence> sequences = level_sequences(data, config, effects, level);
+    const std::vector<std::optional<StartState>> starts = settled_starts(config, effects, sequences);
 
     LevelResult lr;
     lr.level = level;
@@ -273,9 +312,14 @@ std::vector<LevelResult> evaluate(const EvalConfig& config, const std::vector<Ev
       if (!method.model && !method.solver_contact.empty()) physics.solver.contact = method.solver_contact;
       auto t0 = std::chrono::steady_clock::now();
       std::vector<double> step_ms;  // every frame's contact query + step
-      for (const Sequence& s : sequences) {
+      for (size_t si = 0; si < sequences.size(); ++si) {
+        const Sequence& s = sequences[si];
         const Garment& garment = *s.garment;
         RolloutInput in = sequence_input(config, effects, s);
+        if (starts[si]) {
+          in.x0 = starts[si]->x0;
+          in.x_prev = starts[si]->x_prev;
+        }
         GarmentTopology topology;
         StepFunction step;
         auto step_log = std::make_shared<ContactStepLog>();

@@ -41,6 +41,13 @@ struct EvalConfig {
   int max_frames = 0;      // frames rolled out per sequence, 0 = the whole motion (needed > 0 without a body)
   int start_frame = 1;     // LBS-initialised start (needs the frame before it)
   double push_out_gap = 0.004;  // m, as in training: LBS frames pushed out of the body
+  // How each rollout's frame 0 is reached, as a scene's body.start: "skinned" (the garment
+  // skinned to the start frame's pose and pushed push_out_gap out of the body, the training
+  // data's start) or "settled" (the reference solver carries the rest shape from the bind pose
+  // to that pose in settle_steps steps, never inside the body: rollout/settled_start.h). Every
+  // method of a sequence starts from the same frame; the settling is timed apart from them.
+  std::string start = "skinned";
+  int settle_steps = 10;
   std::vector<std::string> effects{"gravity", "collision", "friction"};
   EvalPins pins;           // with effect `pins`
   // With a body, these garments' waistbands ride on it (scene/waistband.h): a skirt's rollout
@@ -72,6 +79,8 @@ struct EvalConfig {
     v("max_frames", max_frames, int_at_least(0));
     v("start_frame", start_frame, int_at_least(1));
     v("push_out_gap", push_out_gap, in_range(0, 0.05));
+    v("start", start, one_of({"skinned", "settled"}));
+    v("settle_steps", settle_steps, int_in_range(1, 1000));
     v("effects", effects);
     v("pins", pins);
     v("waistband", waistband);
