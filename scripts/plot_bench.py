@@ -75,13 +75,26 @@ def loss_vs_latency(rows, levels, out):
     # The positive energy (stretch + bending + collision), not the total: gravity's ~1 J a frame
     # is the same for every method and would hide what separates them.
     y = "positive_loss"
-    fig, axes = plt.subplots(1, len(levels), figsize=(3.6 * len(levels), 4.4), squeeze=False)
+    fig, axes = plt.subplots(1, len(levels), figsize=(4.2 * len(levels), 5.0), squeeze=False)
     palette = list(plt.get_cmap("tab10").colors) + list(plt.get_cmap("Dark2").colors)
     network_bases = list(dict.fromkeys(r["method"].split(" + ")[0] for r in rows
                                        if r["family"] in ("network", "ablation")))
     for ax, level in zip(axes[0], levels):
         here = [r for r in rows if r["level"] == level and r["family"] != "no_body"
                 and finite(r[y]) and r[y] > 0 and finite(r["latency_ms_median"])]
+        # The axis ends 10x above the highest network row that ran to the end (alone, with passes or
+        # refined): a solver budget far above it (1e5 J) would squeeze what separates the methods
+        # into a sliver. Rows above the top are drawn on it as open triangles with their value.
+        ours = [r[y] for r in here if r["family"] in ("network", "ablation", "refined", "refined_tolerance")
+                and r.get("diverged") != "true"]
+        top = 10 * max(ours) if ours else None
+
+        def shown(v):
+            return v if top is None or v <= top else top
+
+        def mark_clipped(r, color):
+            if top is not None and r[y] > top:
+                ax.plot([r["latency_ms_median"]], [top], "^", ms=7, mfc="none", color=color, clip_on=False)
         # One curve per family and, for the refined rows, per network ("MGN + 5 it" -> MGN).
         curves = [("reference", None, "s-", "0.4", "reference solver, penalty contact", "{} it"),
                   ("reference_barrier", None, "v-", "tab:purple", "reference solver, intersection-free", "{} it"),
@@ -96,10 +109,23 @@ def loss_vs_latency(rows, levels, out):
                          key=lambda r: r["iterations"])
             if not pts:
                 continue
-            ax.plot([r["latency_ms_median"] for r in pts], [r[y] for r in pts], style, color=color, label=label)
+            ax.plot([r["latency_ms_median"] for r in pts], [shown(r[y]) for r in pts], style, color=color,
+                    label=label, ms=5)
             for r in pts:
-                ax.annotate(note.format(r["iterations"]), (r["latency_ms_median"], r[y]),
-                            fontsize=7, xytext=(3, 3), textcoords="offset points")
+                mark_clipped(r, color)
+                text = note.format(r["iterations"]) + (" div." if r.get("diverged") == "true" else "")
+                if top is not None and r[y] > top:  # off the top: its label hangs below the triangle
+                    ax.annotate(text, (r["latency_ms_median"], top), fontsize=6, xytext=(0, -5),
+                                textcoords="offset points", rotation=90, ha="center", va="top", color=color)
+                else:
+                    ax.annotate(text, (r["latency_ms_median"], r[y]), fontsize=6.5, xytext=(3, 3),
+                                textcoords="offset points")
+        # The converged reference (its largest budget that ran to the end): what the others approach.
+        converged = [r for r in here if r["family"] == "reference_barrier" and r.get("diverged") != "true"]
+        if converged:
+            c = max(converged, key=lambda r: r["iterations"])
+            ax.axhline(c[y], ls="--", lw=0.8, color="tab:purple", alpha=0.6,
+                       label="reference solver, intersection-free, largest budget")
         # A network refined until the solver's step is below a tolerance: a star per tolerance.
         for r in (r for r in here if r["family"] == "refined_tolerance"):
             tolerance = r["method"].rsplit(" + ", 1)[1]
@@ -109,17 +135,20 @@ def loss_vs_latency(rows, levels, out):
                         xytext=(3, -9), textcoords="offset points")
         fk = sorted((r for r in here if r["family"] == "fixed_k"), key=lambda r: r["K"])
         if fk:
-            ax.plot([r["latency_ms_median"] for r in fk], [r[y] for r in fk], ".:",
+            ax.plot([r["latency_ms_median"] for r in fk], [shown(r[y]) for r in fk], ".:",
                     color="tab:blue", alpha=0.6, label="Pb4U, fixed K")
         # A network's colour is its method's at every level; with passes ("X + ...") a square.
         for r in here:
             if r["family"] in ("network", "ablation"):
                 base = r["method"].split(" + ")[0]
                 marker = "x" if r["family"] == "ablation" else ("s" if base != r["method"] else "o")
-                ax.plot([r["latency_ms_median"]], [r[y]], marker, ms=8, label=r["method"],
-                        color=palette[network_bases.index(base) % len(palette)])
+                color = palette[network_bases.index(base) % len(palette)]
+                ax.plot([r["latency_ms_median"]], [shown(r[y])], marker, ms=8, label=r["method"], color=color)
+                mark_clipped(r, color)
         ax.set_xscale("log")
         ax.set_yscale("log")
+        if top is not None:
+            ax.set_ylim(top=top)
         ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())  # no crowded minor labels
         ax.set_title(level_label(rows, level), fontsize=9)
         ax.set_xlabel("latency per frame (ms)")
@@ -134,7 +163,8 @@ def loss_vs_latency(rows, levels, out):
                 labels.append(l)
     ncol = min(3, len(labels))
     fig.legend([handles[l] for l in labels], labels, loc="lower center", ncol=ncol, fontsize=7)
-    fig.suptitle("Accuracy vs time: positive energy (stretch + bending + collision)\nlower left is better",
+    fig.suptitle("Accuracy vs time: positive energy (stretch + bending + collision), lower left is better\n"
+                 "open triangles: runs far above every network's energy, drawn on the top edge; div.: diverged",
                  fontsize=10)
     rows_of_labels = (len(labels) + ncol - 1) // max(ncol, 1)
     fig.tight_layout(rect=(0, 0.02 + 0.045 * rows_of_labels, 1, 1))
