@@ -215,13 +215,9 @@ std::vector<std::optional<StartState>> settled_starts(const EvalConfig& config, 
     const std::vector<int> riding = in.pin_targets.empty() ? std::vector<int>() : in.pinned;
     const SettledStart st = settled_start(*s.body, *s.garment, first, next, config.settle_steps, config.material,
                                           riding, config.push_out_gap, config.physics);
-    StartState start{st.x, Eigen::MatrixXd()};
-    for (int v : riding) start.x0.row(v) = in.pin_targets[0].row(v);
-    start.x_prev = start.x0 - (st.x - st.x_prev);
-    spdlog::info("{} on {}: start settled from the bind pose in {} solver steps ({:.1f} s): {} cloth edges through "
-                 "the body, {:.2f}% of the vertices inside it; at most {} vertices a step out of barrier contact",
-                 s.garment->name, s.motion->name, config.settle_steps, st.seconds, st.edges_through,
-                 100 * st.inside_fraction, st.excluded_max);
+    StartState start;
+    settled_rollout_start(st, riding, riding.empty() ? st.x : in.pin_targets[0], &start.x0, &start.x_prev);
+    spdlog::info("{} on {}: {}", s.garment->name, s.motion->name, describe_settled_start(st, config.settle_steps));
     starts[i] = std::move(start);
   }
   return starts;

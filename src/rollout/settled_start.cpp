@@ -4,6 +4,8 @@
 #include <chrono>
 #include <memory>
 
+#include <spdlog/fmt/fmt.h>
+
 #include "pb4u/body/forward_kinematics.h"
 #include "pb4u/body/linear_blend_skinning.h"
 #include "pb4u/physics/penetration.h"
@@ -69,6 +71,19 @@ SettledStart settled_start(const Body& body, const Garment& garment, const Pose&
   out.x_prev = out.x - (skin(next) - skinned.back());
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return out;
+}
+
+void settled_rollout_start(const SettledStart& st, const std::vector<int>& riding, const Eigen::MatrixXd& pin_targets,
+                           Eigen::MatrixXd* x0, Eigen::MatrixXd* x_prev) {
+  *x0 = st.x;
+  for (int v : riding) x0->row(v) = pin_targets.row(v);
+  *x_prev = *x0 - (st.x - st.x_prev);
+}
+
+std::string describe_settled_start(const SettledStart& st, int steps) {
+  return fmt::format("start settled from the bind pose in {} solver steps ({:.1f} s): {} cloth edges through the body, "
+                     "{:.2f}% of the vertices inside it; at most {} vertices a step out of barrier contact",
+                     steps, st.seconds, st.edges_through, 100 * st.inside_fraction, st.excluded_max);
 }
 
 }  // namespace pb4u

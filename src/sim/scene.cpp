@@ -228,13 +228,8 @@ SceneSetup build_scene(const SceneConfig& scene, const std::string& where) {
     const Pose& next = motion.frames[size_t(std::min(1, motion.num_frames() - 1))];
     const SettledStart st = settled_start(record->body, garment, motion.frames[0], next, scene.body.settle_steps,
                                           scene.material, riding, scene.body.push_out_gap, scene.physics);
-    s.x0 = st.x;
-    for (int i : riding) s.x0.row(i) = s.pin_targets[0].row(i);
-    s.x_prev = s.x0 - (st.x - st.x_prev);
-    spdlog::info("{}: start settled from the bind pose in {} solver steps ({:.1f} s): {} cloth edges through the "
-                 "body, {:.2f}% of the vertices inside it; at most {} vertices a step out of barrier contact",
-                 where, scene.body.settle_steps, st.seconds, st.edges_through, 100 * st.inside_fraction,
-                 st.excluded_max);
+    settled_rollout_start(st, riding, riding.empty() ? st.x : s.pin_targets[0], &s.x0, &s.x_prev);
+    spdlog::info("{}: {}", where, describe_settled_start(st, scene.body.settle_steps));
   }
   return s;
 }

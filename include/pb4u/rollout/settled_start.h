@@ -15,6 +15,7 @@
 // gives it from the first pose to the next (the body is already moving there).
 #include <Eigen/Core>
 
+#include <string>
 #include <vector>
 
 #include "pb4u/body/body.h"
@@ -40,5 +41,14 @@ struct SettledStart {
 SettledStart settled_start(const Body& body, const Garment& garment, const Pose& first, const Pose& next, int steps,
                            const Material& material, const std::vector<int>& pinned, double push_out_gap,
                            const PhysicsConfig& physics);
+
+// A rollout's frame 0 and the frame before it from `st`: the settled cloth, the vertices in
+// `riding` (pins that rode on the body) set to frame 0's `pin_targets` rows, and x_prev behind x0
+// by the skinned motion to the next pose. `pin_targets` is read only when `riding` is not empty.
+void settled_rollout_start(const SettledStart& st, const std::vector<int>& riding, const Eigen::MatrixXd& pin_targets,
+                           Eigen::MatrixXd* x0, Eigen::MatrixXd* x_prev);
+
+// One line for the log: the steps, their time and what the start left through the body.
+std::string describe_settled_start(const SettledStart& st, int steps);
 
 }  // namespace pb4u
