@@ -331,6 +331,10 @@ void IncrementalPotentialSolve::make_barrier_start(const torch::Tensor* x_start)
     BarrierStart swept = make_start(false);
     if (swept.excluded_count < start.excluded_count) start = std::move(swept);
   }
+  // Where the step left cloth inside the body with no free place near (between two body parts
+  // crossing each other), the body's own motion from t decides where that cloth goes.
+  if (x_start && barrier->given_start == GivenStart::swept_if_left_out && start.excluded_count > 0)
+    start = make_start(false);
   spdlog::debug("barrier start chosen after {:.0f} ms", ms_since(start_time));
   result.swept_start = x_start && !start.at_next;
   body_start = start.at_next ? &barrier->body_next : &barrier->body_t;
@@ -880,9 +884,11 @@ std::optional<BarrierStepInput> barrier_step_input(const FrameState& state, cons
   input.settings.d_hat = config.barrier_distance;
   input.settings.stiffness = config.barrier_stiffness;
   input.keeps_penalty = config.barrier_keeps_penalty;
-  input.given_start = config.given_start == "at_step"  ? BarrierStepInput::GivenStart::at_step
-                      : config.given_start == "swept" ? BarrierStepInput::GivenStart::swept
-                                                      : BarrierStepInput::GivenStart::fewer_left_out;
+  using GivenStart = BarrierStepInput::GivenStart;
+  input.given_start = config.given_start == "at_step"            ? GivenStart::at_step
+                      : config.given_start == "swept"            ? GivenStart::swept
+                      : config.given_start == "fewer_left_out"   ? GivenStart::fewer_left_out
+                                                                 : GivenStart::swept_if_left_out;
   if (config.barrier_stiffness_max > 0 && config.barrier_stiffness_max < config.barrier_stiffness)
     throw Error("reference solver: solver.barrier_stiffness_max (" + std::to_string(config.barrier_stiffness_max) +
                 ") is below solver.barrier_stiffness (" + std::to_string(config.barrier_stiffness) + ")");

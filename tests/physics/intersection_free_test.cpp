@@ -867,9 +867,60 @@ TEST(RefinedStep, AStepLeftInsideAFastBodyCanStartSweptFromTheClothAtT) {
     EXPECT_EQ(f.edges_through, 0) << given_start;
     EXPECT_GT(r.x_next[40][1].item<double>(), s.radius + s.speed * s.state.dt) << given_start << ": over the sphere";
   }
-  const SolverResult fewer = refine("fewer_left_out");
-  EXPECT_FALSE(fewer.swept_start);
-  EXPECT_TRUE(torch::equal(fewer.x_next, refine("at_step").x_next));
+  const SolverResult at_step = refine("at_step");
+  for (const std::string rule : {"fewer_left_out", "swept_if_left_out"}) {
+    const SolverResult r = refine(rule);
+    EXPECT_FALSE(r.swept_start) << rule;
+    EXPECT_TRUE(torch::equal(r.x_next, at_step.x_next)) << rule;
+  }
+}
+
+// Two spheres (r = 0.1 m) 0.1 m apart close on a 2 cm patch between them and overlap by 0.1 m
+// at t + dt: the body crosses itself where the patch is. A step that did not see them (the patch
+// left where it was) is inside both there, with no free place near, so made free where it
+// stands (at_step) it leaves vertices out of contact. swept_if_left_out then starts as swept
+// does, from the patch at t, and the spheres' moves carry it as far as they leave it room.
+TEST(RefinedStep, AStepPinchedWhereTheBodyCrossesItselfStartsSweptWhenItLeavesClothOut) {
+  TriMesh patch = test::grid_mesh(3, 0.02);
+  patch.V.col(0).array() -= 0.01;
+  patch.V.col(2).array() -= 0.01;
+  patch.V.col(1).setZero();
+  const ClothGeometry cloth = make_cloth_geometry(patch);
+  FrameState state = test::resting_state(test::positions_tensor(patch.V));
+  state.effects.gravity = state.effects.collision = true;
+  const TriMesh left = test::icosphere(0.1, 2, Eigen::RowVector3d(-0.15, 0, 0));
+  const TriMesh right = test::icosphere(0.1, 2, Eigen::RowVector3d(0.15, 0, 0));
+  const Eigen::Index nl = left.V.rows();
+  Eigen::MatrixXd body_t(nl + right.V.rows(), 3);
+  body_t << left.V, right.V;
+  Eigen::MatrixXi body_F(left.F.rows() + right.F.rows(), 3);
+  body_F << left.F, (right.F.array() + static_cast<int>(nl)).matrix();
+  Eigen::MatrixXd body_next = body_t;
+  body_next.topRows(nl).col(0).array() += 0.1;
+  body_next.bottomRows(right.V.rows()).col(0).array() -= 0.1;
+  state.body.vertices = test::positions_tensor(body_t);
+  state.body.next_vertices = test::positions_tensor(body_next);
+  state.body.faces = test::faces_tensor(body_F);
+  const torch::Tensor left_behind = state.x.clone();
+  auto refine = [&](const std::string& given_start) {
+    PhysicsConfig config = barrier_config();
+    config.solver.given_start = given_start;
+    config.solver.max_iterations = 10;
+    const TermList terms = build_terms(state.effects, config);
+    const std::optional<BodyContact> contact = body_contact_for(state, config);
+    const std::optional<BarrierStepInput> barrier = barrier_step_input(state, cloth, config.solver);
+    return solve_reference_step(state, cloth, terms, contact ? &*contact : nullptr, config.solver, &*barrier,
+                                &left_behind);
+  };
+  const SolverResult at_step = refine("at_step");
+  ASSERT_FALSE(at_step.swept_start);
+  ASSERT_GT(at_step.excluded, 0) << "the pinched patch finds no free place where it stands";
+  const SolverResult swept = refine("swept");
+  const SolverResult r = refine("swept_if_left_out");
+  EXPECT_TRUE(r.swept_start);
+  EXPECT_EQ(r.excluded, swept.excluded);
+  EXPECT_TRUE(torch::allclose(r.x_next, swept.x_next, 0, 1e-12));
+  EXPECT_TRUE(torch::isfinite(r.x_next).all().item<bool>());
 }
 
 TEST(RefinedStep, ACountThenAToleranceRunsTheCountFirstThenOnToTheMinimum) {

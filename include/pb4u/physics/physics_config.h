@@ -137,12 +137,10 @@ struct ReferenceSolverConfig {
   // the ballistic prediction), the body then moving to its pose; "fewer_left_out" = at_step,
   // unless that leaves vertices out of contact and the swept start leaves fewer, and then, where
   // the swept solve's body caught cloth, the solve from at_step too, keeping the one that left
-  // fewer out. A step checked only where it ends can have passed through a fast body:
-  // fewer_left_out refines the box at 6 m/s free of it, and on the demo walk's 300 frames reads
-  // at_step's energy with a quarter of its share inside on average, at 1.13x its time; but on
-  // the held-out CMU walk's t-shirt, from five start frames, it read 0.99-25.6x the reference
-  // against at_step's 0.97-2.68x, at_step the lower on four, so at_step stays the default
-  // (docs/physics.md, "Where a refinement starts").
+  // fewer out; "swept_if_left_out" = at_step, unless that leaves any vertex out of contact, then
+  // swept. A step checked only where it ends can have passed through a fast body or be pinched
+  // where the body crosses itself; which rule does better differs by case and by run, so at_step
+  // stays the default (docs/physics.md, "Where a refinement starts", has the figures).
   std::string given_start = "at_step";
   // Where the body, held up by the cloth, is placed at its pose after its moves: true = the
   // cloth it then cuts or holds is first pushed out of it as a start is (intersection_free_start:
@@ -210,7 +208,7 @@ struct ReferenceSolverConfig {
     v("strain_barrier_stiffness", strain_barrier_stiffness, positive());
     v("area_barrier_gap", area_barrier_gap, in_range(0.0, 1.0));
     v("area_barrier_stiffness", area_barrier_stiffness, positive());
-    v("given_start", given_start, one_of({"at_step", "swept", "fewer_left_out"}));
+    v("given_start", given_start, one_of({"at_step", "swept", "fewer_left_out", "swept_if_left_out"}));
     v("push_out_caught", push_out_caught);
     v("release_held_cloth", release_held_cloth);
     v("body_carry", body_carry, one_of({"push", "ride"}));

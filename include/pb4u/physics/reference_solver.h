@@ -72,8 +72,9 @@ struct BarrierStepInput {
   //   at_step: the step itself, at t + dt, made free of the body placed at its pose there;
   //   swept: from the cloth at t towards the step against the body at t, as the solver's own
   //     start sweeps towards the ballistic prediction; the body then moves to its pose;
-  //   fewer_left_out: at_step, unless it leaves vertices out of contact and swept leaves fewer.
-  enum class GivenStart { at_step, swept, fewer_left_out };
+  //   fewer_left_out: at_step, unless it leaves vertices out of contact and swept leaves fewer;
+  //   swept_if_left_out: at_step, unless it leaves any vertex out of contact; then swept.
+  enum class GivenStart { at_step, swept, fewer_left_out, swept_if_left_out };
   GivenStart given_start = GivenStart::at_step;
 };
 
