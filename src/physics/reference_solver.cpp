@@ -331,8 +331,9 @@ void IncrementalPotentialSolve::make_barrier_start(const torch::Tensor* x_start)
     BarrierStart swept = make_start(false);
     if (swept.excluded_count < start.excluded_count) start = std::move(swept);
   }
-  // Where the step left cloth inside the body with no free place near (between two body parts
-  // crossing each other), the body's own motion from t decides where that cloth goes.
+  // Where the step left cloth inside the body with no free place near (pinched where the body
+  // crosses itself, or deep in a body that went through it), the body's own motion from t
+  // decides where that cloth goes.
   if (x_start && barrier->given_start == GivenStart::swept_if_left_out && start.excluded_count > 0)
     start = make_start(false);
   spdlog::debug("barrier start chosen after {:.0f} ms", ms_since(start_time));

@@ -889,18 +889,14 @@ TEST(RefinedStep, AStepPinchedWhereTheBodyCrossesItselfStartsSweptWhenItLeavesCl
   FrameState state = test::resting_state(test::positions_tensor(patch.V));
   state.effects.gravity = state.effects.collision = true;
   const TriMesh left = test::icosphere(0.1, 2, Eigen::RowVector3d(-0.15, 0, 0));
-  const TriMesh right = test::icosphere(0.1, 2, Eigen::RowVector3d(0.15, 0, 0));
+  const TriMesh body = test::joined(left, test::icosphere(0.1, 2, Eigen::RowVector3d(0.15, 0, 0)));
   const Eigen::Index nl = left.V.rows();
-  Eigen::MatrixXd body_t(nl + right.V.rows(), 3);
-  body_t << left.V, right.V;
-  Eigen::MatrixXi body_F(left.F.rows() + right.F.rows(), 3);
-  body_F << left.F, (right.F.array() + static_cast<int>(nl)).matrix();
-  Eigen::MatrixXd body_next = body_t;
+  Eigen::MatrixXd body_next = body.V;
   body_next.topRows(nl).col(0).array() += 0.1;
-  body_next.bottomRows(right.V.rows()).col(0).array() -= 0.1;
-  state.body.vertices = test::positions_tensor(body_t);
+  body_next.bottomRows(body.V.rows() - nl).col(0).array() -= 0.1;
+  state.body.vertices = test::positions_tensor(body.V);
   state.body.next_vertices = test::positions_tensor(body_next);
-  state.body.faces = test::faces_tensor(body_F);
+  state.body.faces = test::faces_tensor(body.F);
   const torch::Tensor left_behind = state.x.clone();
   auto refine = [&](const std::string& given_start) {
     PhysicsConfig config = barrier_config();
