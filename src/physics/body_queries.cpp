@@ -1,6 +1,7 @@
 #include "pb4u/physics/body_queries.h"
 
 #include <atomic>
+#include <limits>
 
 #include "pb4u/spatial/point_kd_tree.h"
 #include "pb4u/util/eigen_tensor.h"
@@ -70,6 +71,21 @@ BodyContact query_body_contact(const torch::Tensor& x, const BodyFrame& body,
   c.motion = c.point - c_t.index_select(0, c.face);
   c.distance = ((x.detach() - c_t.index_select(0, c.face)) * n_t.index_select(0, c.face)).sum(1);
   c.in_contact = c.distance < contact_radius;
+  return c;
+}
+
+BodyContact contact_on_faces(const BodyContact& contact, const torch::Tensor& x, const BodyFrame& body,
+                             const std::vector<int64_t>& rows, double degenerate_area) {
+  if (rows.empty()) throw Error("body queries: no body face to measure the contact against");
+  const int64_t faces = body.faces.size(0);
+  for (int64_t r : rows)
+    if (r < 0 || r >= faces) throw Error("body queries: body face row out of range");
+  const torch::Tensor kept = torch::tensor(rows, torch::kInt64).to(body.faces.device());
+  BodyFrame some = body;
+  some.faces = body.faces.index_select(0, kept);
+  BodyContact c = query_body_contact(x, some, std::numeric_limits<double>::infinity(), degenerate_area);
+  c.face = kept.to(c.face.device()).index_select(0, c.face);
+  c.in_contact = contact.in_contact;
   return c;
 }
 

@@ -8,6 +8,7 @@
 #include <deque>
 #include <functional>
 
+#include "pb4u/body/outer_faces.h"
 #include "pb4u/mesh/edges.h"
 #include "pb4u/physics/barrier_objective.h"
 #include "pb4u/physics/barrier_start.h"
@@ -859,13 +860,32 @@ SolverResult IncrementalPotentialSolve::finish() {
   return result;
 }
 
+// solver.penalty_faces = outer: the rows of the body's faces no other part of it covers at
+// t + dt; empty where none is covered.
+std::vector<int64_t> uncovered_face_rows(const FrameState& state) {
+  const std::vector<char> covered =
+      covered_faces(tensor_to_matrix(state.body.next_vertices), index_tensor_to_matrix(state.body.faces));
+  std::vector<int64_t> rows;
+  if (std::find(covered.begin(), covered.end(), char(1)) == covered.end()) return rows;
+  for (size_t f = 0; f < covered.size(); ++f)
+    if (!covered[f]) rows.push_back(int64_t(f));
+  return rows;
+}
+
 }  // namespace
 
 SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& cloth,
                                   const TermList& terms, const BodyContact* contact,
                                   const ReferenceSolverConfig& config, const BarrierStepInput* barrier,
                                   const torch::Tensor* x_start) {
-  return IncrementalPotentialSolve(state, cloth, terms, contact, config, barrier, x_start).run();
+  const std::optional<BodyContact> outer = barrier ? barrier->solved_contact(state, contact) : std::nullopt;
+  return IncrementalPotentialSolve(state, cloth, terms, outer ? &*outer : contact, config, barrier, x_start).run();
+}
+
+std::optional<BodyContact> BarrierStepInput::solved_contact(const FrameState& state, const BodyContact* contact) const {
+  if (outer_faces.empty() || !contact) return std::nullopt;
+  // The contact's normals are unit above PhysicsConfig's degenerate area, as the step's own.
+  return contact_on_faces(*contact, state.x, state.body, outer_faces, PhysicsConfig().degenerate_area);
 }
 
 bool BarrierStepInput::drops(const PhysicsTerm& term) const { return !keeps_penalty && term.name() == "collision"; }
@@ -890,6 +910,7 @@ std::optional<BarrierStepInput> barrier_step_input(const FrameState& state, cons
                       : config.given_start == "swept"            ? GivenStart::swept
                       : config.given_start == "fewer_left_out"   ? GivenStart::fewer_left_out
                                                                  : GivenStart::swept_if_left_out;
+  if (config.penalty_faces == "outer") input.outer_faces = uncovered_face_rows(state);
   if (config.barrier_stiffness_max > 0 && config.barrier_stiffness_max < config.barrier_stiffness)
     throw Error("reference solver: solver.barrier_stiffness_max (" + std::to_string(config.barrier_stiffness_max) +
                 ") is below solver.barrier_stiffness (" + std::to_string(config.barrier_stiffness) + ")");

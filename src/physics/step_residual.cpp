@@ -26,6 +26,9 @@ double step_residual(const torch::Tensor& x_next, const FrameState& state, const
   for (int64_t i = 0; i < n; ++i)
     if (!pinned[size_t(i)]) row[size_t(i)] = k++;
   if (k == 0) return 0;
+  // The contact the barrier solve measured its penalty and friction with (solver.penalty_faces).
+  const std::optional<BodyContact> solved = barrier ? barrier->solved_contact(state, contact) : std::nullopt;
+  if (solved) contact = &*solved;
 
   torch::Tensor x = x_next.detach().to(torch::kFloat64).clone().requires_grad_(true);
   // Barrier contact: the vertices not free of the body leave the barrier for the penalty term.

@@ -876,36 +876,47 @@ TEST(RefinedStep, AStepLeftInsideAFastBodyCanStartSweptFromTheClothAtT) {
 }
 
 // Two spheres (r = 0.1 m) 0.1 m apart close on a 2 cm patch between them and overlap by 0.1 m
-// at t + dt: the body crosses itself where the patch is. A step that did not see them (the patch
-// left where it was) is inside both there, with no free place near, so made free where it
-// stands (at_step) it leaves vertices out of contact. swept_if_left_out then starts as swept
-// does, from the patch at t, and the spheres' moves carry it as far as they leave it room.
-TEST(RefinedStep, AStepPinchedWhereTheBodyCrossesItselfStartsSweptWhenItLeavesClothOut) {
+// at t + dt: the body crosses itself where the patch is, the patch inside both spheres there.
+struct SpheresClosingOnPatch {
   TriMesh patch = test::grid_mesh(3, 0.02);
-  patch.V.col(0).array() -= 0.01;
-  patch.V.col(2).array() -= 0.01;
-  patch.V.col(1).setZero();
-  const ClothGeometry cloth = make_cloth_geometry(patch);
-  FrameState state = test::resting_state(test::positions_tensor(patch.V));
-  state.effects.gravity = state.effects.collision = true;
-  const TriMesh left = test::icosphere(0.1, 2, Eigen::RowVector3d(-0.15, 0, 0));
-  const TriMesh body = test::joined(left, test::icosphere(0.1, 2, Eigen::RowVector3d(0.15, 0, 0)));
-  const Eigen::Index nl = left.V.rows();
-  Eigen::MatrixXd body_next = body.V;
-  body_next.topRows(nl).col(0).array() += 0.1;
-  body_next.bottomRows(body.V.rows() - nl).col(0).array() -= 0.1;
-  state.body.vertices = test::positions_tensor(body.V);
-  state.body.next_vertices = test::positions_tensor(body_next);
-  state.body.faces = test::faces_tensor(body.F);
-  const torch::Tensor left_behind = state.x.clone();
+  ClothGeometry cloth;
+  FrameState state;
+  TriMesh body;
+  Eigen::MatrixXd body_next;
+  SpheresClosingOnPatch() {
+    patch.V.col(0).array() -= 0.01;
+    patch.V.col(2).array() -= 0.01;
+    patch.V.col(1).setZero();
+    cloth = make_cloth_geometry(patch);
+    state = test::resting_state(test::positions_tensor(patch.V));
+    state.effects.gravity = state.effects.collision = true;
+    const TriMesh left = test::icosphere(0.1, 2, Eigen::RowVector3d(-0.15, 0, 0));
+    body = test::joined(left, test::icosphere(0.1, 2, Eigen::RowVector3d(0.15, 0, 0)));
+    const Eigen::Index nl = left.V.rows();
+    body_next = body.V;
+    body_next.topRows(nl).col(0).array() += 0.1;
+    body_next.bottomRows(body.V.rows() - nl).col(0).array() -= 0.1;
+    state.body.vertices = test::positions_tensor(body.V);
+    state.body.next_vertices = test::positions_tensor(body_next);
+    state.body.faces = test::faces_tensor(body.F);
+  }
+};
+
+// A step that did not see the spheres (the patch left where it was) is inside both, with no
+// free place near, so made free where it stands (at_step) it leaves vertices out of contact.
+// swept_if_left_out then starts as swept does, from the patch at t, and the spheres' moves
+// carry it as far as they leave it room.
+TEST(RefinedStep, AStepPinchedWhereTheBodyCrossesItselfStartsSweptWhenItLeavesClothOut) {
+  const SpheresClosingOnPatch s;
+  const torch::Tensor left_behind = s.state.x.clone();
   auto refine = [&](const std::string& given_start) {
     PhysicsConfig config = barrier_config();
     config.solver.given_start = given_start;
     config.solver.max_iterations = 10;
-    const TermList terms = build_terms(state.effects, config);
-    const std::optional<BodyContact> contact = body_contact_for(state, config);
-    const std::optional<BarrierStepInput> barrier = barrier_step_input(state, cloth, config.solver);
-    return solve_reference_step(state, cloth, terms, contact ? &*contact : nullptr, config.solver, &*barrier,
+    const TermList terms = build_terms(s.state.effects, config);
+    const std::optional<BodyContact> contact = body_contact_for(s.state, config);
+    const std::optional<BarrierStepInput> barrier = barrier_step_input(s.state, s.cloth, config.solver);
+    return solve_reference_step(s.state, s.cloth, terms, contact ? &*contact : nullptr, config.solver, &*barrier,
                                 &left_behind);
   };
   const SolverResult at_step = refine("at_step");
@@ -917,6 +928,50 @@ TEST(RefinedStep, AStepPinchedWhereTheBodyCrossesItselfStartsSweptWhenItLeavesCl
   EXPECT_EQ(r.excluded, swept.excluded);
   EXPECT_TRUE(torch::allclose(r.x_next, swept.x_next, 0, 1e-12));
   EXPECT_TRUE(torch::isfinite(r.x_next).all().item<bool>());
+}
+
+// The patch between the spheres is nearest, at t, to the inner caps, which at t + dt lie inside
+// the other sphere: SPEC 3.3's plane of such a face pushes the cloth along x, through the lens
+// where the spheres overlap and deeper into the other one. penalty_faces = outer measures it
+// against the faces no other part covers, the nearest of which ring the lens: their planes push
+// the cloth out across x, towards the surface of the two spheres together, and each such face's
+// outside is outside both spheres. A body that does not cross itself keeps the step's contact.
+TEST(RefinedStep, ClothPinchedWhereTheBodyCrossesItselfIsPushedTowardsTheFacesNoOtherPartCovers) {
+  const SpheresClosingOnPatch s;
+  PhysicsConfig config = barrier_config();
+  config.solver.penalty_faces = "outer";
+  const std::optional<BodyContact> all = body_contact_for(s.state, config);
+  const std::optional<BarrierStepInput> barrier = barrier_step_input(s.state, s.cloth, config.solver);
+  const std::optional<BodyContact> outer = barrier->solved_contact(s.state, &*all);
+  ASSERT_TRUE(outer);
+  const Eigen::MatrixXd all_normal = tensor_to_matrix(all->normal), outer_normal = tensor_to_matrix(outer->normal);
+  const Eigen::MatrixXd outer_point = tensor_to_matrix(outer->point);
+  const Eigen::RowVector3d left_centre(-0.05, 0, 0), right_centre(0.05, 0, 0);
+  for (Eigen::Index i = 0; i < all_normal.rows(); ++i) {
+    EXPECT_GT(std::abs(all_normal(i, 0)), 0.9) << "vertex " << i << ": an inner cap's face, facing along x";
+    EXPECT_GT(outer_normal.row(i).tail<2>().norm(), std::abs(outer_normal(i, 0))) << "vertex " << i;
+    const Eigen::RowVector3d outside = outer_point.row(i) + 1e-4 * outer_normal.row(i);
+    EXPECT_GT(std::min((outside - left_centre).norm(), (outside - right_centre).norm()), 0.095) << "vertex " << i;
+  }
+  EXPECT_TRUE(torch::equal(outer->in_contact, all->in_contact));
+  const torch::Tensor kept = torch::tensor(barrier->outer_faces, torch::kInt64);
+  EXPECT_TRUE(torch::isin(outer->face, kept).all().item<bool>()) << "faces are rows of the whole body";
+  // Solved from the step left where it was, the patch moves out from the axis towards the
+  // lens's rim (0.087 m from the axis) and stays within the spheres' reach (with "all", the
+  // planes of the covered faces throw it off through the other sphere, 0.47 m on 2026-11-29).
+  const torch::Tensor left_behind = s.state.x.clone();
+  const TermList terms = build_terms(s.state.effects, config);
+  const torch::Tensor outer_x =
+      solve_reference_step(s.state, s.cloth, terms, &*all, config.solver, &*barrier, &left_behind).x_next;
+  const double start_axis = left_behind.slice(1, 1, 3).norm(2, 1).mean().item<double>();
+  EXPECT_GT(outer_x.slice(1, 1, 3).norm(2, 1).mean().item<double>(), start_axis + 0.04);
+  EXPECT_LT(outer_x.abs().max().item<double>(), 0.11);
+  // Apart, the spheres do not cross themselves: no faces are set aside and the contact stays.
+  FrameState apart = s.state;
+  apart.body.next_vertices = apart.body.vertices;
+  const std::optional<BarrierStepInput> apart_input = barrier_step_input(apart, s.cloth, config.solver);
+  EXPECT_TRUE(apart_input->outer_faces.empty());
+  EXPECT_FALSE(apart_input->solved_contact(apart, &*all));
 }
 
 TEST(RefinedStep, ACountThenAToleranceRunsTheCountFirstThenOnToTheMinimum) {

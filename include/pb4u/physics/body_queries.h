@@ -4,6 +4,7 @@
 #include <torch/torch.h>
 
 #include <optional>
+#include <vector>
 
 #include "pb4u/physics/physics_config.h"
 #include "pb4u/scene/frame_state.h"
@@ -25,6 +26,13 @@ struct BodyContact {
 // contact_radius in m; degenerate_area in m^2 (normals of smaller faces are left unnormalised).
 BodyContact query_body_contact(const torch::Tensor& x, const BodyFrame& body,
                                double contact_radius, double degenerate_area);
+
+// `contact` (query_body_contact's, of x over all of body's faces) measured again against the
+// faces `rows` of the body alone: each vertex's nearest of them by centroid at t, its centroid,
+// normal and motion at t + dt. Whether a vertex is in contact (in_contact, for friction) stays
+// `contact`'s. Throws pb4u::Error when rows is empty or out of range.
+BodyContact contact_on_faces(const BodyContact& contact, const torch::Tensor& x, const BodyFrame& body,
+                             const std::vector<int64_t>& rows, double degenerate_area);
 
 // The step's contact when the scene's effects need a body, std::nullopt otherwise (no
 // KD-tree is built then). Throws pb4u::Error when they need one and state.body is undefined.

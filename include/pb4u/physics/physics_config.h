@@ -172,6 +172,14 @@ struct ReferenceSolverConfig {
   // 996, and 195 with push_out_caught beside it (docs/physics.md, "Carrying the cloth the body
   // slides and turns under").
   std::string body_carry = "push";
+  // Which body faces a barrier solve measures SPEC 3.3's penalty (and friction's slip) against:
+  // "all" (SPEC 3.3: the face with the nearest centroid) or "outer" = only the faces no other
+  // part of the body covers at t + dt (body/outer_faces.h). Where the body crosses itself (a
+  // hand sunk into a hip), cloth pinched between the two parts is inside one of them wherever
+  // it is, and its nearest face can be a covered one, whose plane pushes it deeper into the
+  // other part; "outer" pushes it towards the surface of the body as a whole. The same faces
+  // where the body does not cross itself. The figures a rollout reports stay SPEC 3.3's.
+  std::string penalty_faces = "all";
   // How the barriers' curvature (contact, strain) enters L-BFGS's elastic initial Hessian:
   // "diagonal" = one isotropic value per vertex; "blocks" = their Hessians on the coordinates
   // (coordinate_hessian.h; stiff along a contact's normal and an edge's direction, free across;
@@ -212,6 +220,7 @@ struct ReferenceSolverConfig {
     v("push_out_caught", push_out_caught);
     v("release_held_cloth", release_held_cloth);
     v("body_carry", body_carry, one_of({"push", "ride"}));
+    v("penalty_faces", penalty_faces, one_of({"all", "outer"}));
     v("barrier_hessian", barrier_hessian, one_of({"blocks", "diagonal"}));
     v("step", step, one_of({"auto", "quasi_newton", "newton"}));
   }

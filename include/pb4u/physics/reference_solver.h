@@ -76,6 +76,13 @@ struct BarrierStepInput {
   //   swept_if_left_out: at_step, unless it leaves any vertex out of contact; then swept.
   enum class GivenStart { at_step, swept, fewer_left_out, swept_if_left_out };
   GivenStart given_start = GivenStart::at_step;
+  // solver.penalty_faces = outer, where the body at t + dt crosses itself: the rows of
+  // body_faces no other part covers then (body/outer_faces.h); empty otherwise.
+  std::vector<int64_t> outer_faces;
+  // The contact the solve measures the penalty and friction terms with: `contact` (the step's,
+  // over all faces, of the cloth at t) measured again against outer_faces where there are any
+  // (contact_on_faces); std::nullopt where it stays `contact`.
+  std::optional<BodyContact> solved_contact(const FrameState& state, const BodyContact* contact) const;
 };
 
 // One frame. terms: build_terms(state.effects, ...); contact: body_contact_for(state, ...)
