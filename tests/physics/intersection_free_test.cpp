@@ -316,6 +316,17 @@ PhysicsConfig barrier_config() {
   return config;
 }
 
+// One frame of the solver refining x_start (a network's step), started as
+// config.solver.given_start says; the state stays.
+SolverResult refine_with_solver(const FrameState& state, const ClothGeometry& cloth, const PhysicsConfig& config,
+                                const torch::Tensor& x_start) {
+  const TermList terms = build_terms(state.effects, config);
+  const std::optional<BodyContact> contact = body_contact_for(state, config);
+  const std::optional<BarrierStepInput> barrier = barrier_step_input(state, cloth, config.solver);
+  return solve_reference_step(state, cloth, terms, contact ? &*contact : nullptr, config.solver,
+                              barrier ? &*barrier : nullptr, &x_start);
+}
+
 // A 6 x 6 cloth (0.3 m) `gap` m over a still sphere of radius 0.25 m, falling: the scene, its
 // cloth's geometry and edges, and the sphere as a mesh.
 struct ClothOverSphere {
@@ -852,11 +863,7 @@ TEST(RefinedStep, AStepLeftInsideAFastBodyCanStartSweptFromTheClothAtT) {
     PhysicsConfig config = barrier_config();
     config.solver.given_start = given_start;
     config.solver.max_iterations = 20;
-    const TermList terms = build_terms(s.state.effects, config);
-    const std::optional<BodyContact> contact = body_contact_for(s.state, config);
-    const std::optional<BarrierStepInput> barrier = barrier_step_input(s.state, s.cloth, config.solver);
-    return solve_reference_step(s.state, s.cloth, terms, contact ? &*contact : nullptr, config.solver, &*barrier,
-                                &left_behind);
+    return refine_with_solver(s.state, s.cloth, config, left_behind);
   };
   for (const std::string given_start : {"swept", "at_step"}) {
     const SolverResult r = refine(given_start);
@@ -913,11 +920,7 @@ TEST(RefinedStep, AStepPinchedWhereTheBodyCrossesItselfStartsSweptWhenItLeavesCl
     PhysicsConfig config = barrier_config();
     config.solver.given_start = given_start;
     config.solver.max_iterations = 10;
-    const TermList terms = build_terms(s.state.effects, config);
-    const std::optional<BodyContact> contact = body_contact_for(s.state, config);
-    const std::optional<BarrierStepInput> barrier = barrier_step_input(s.state, s.cloth, config.solver);
-    return solve_reference_step(s.state, s.cloth, terms, contact ? &*contact : nullptr, config.solver, &*barrier,
-                                &left_behind);
+    return refine_with_solver(s.state, s.cloth, config, left_behind);
   };
   const SolverResult at_step = refine("at_step");
   ASSERT_FALSE(at_step.swept_start);
@@ -960,9 +963,7 @@ TEST(RefinedStep, ClothPinchedWhereTheBodyCrossesItselfIsPushedTowardsTheFacesNo
   // lens's rim (0.087 m from the axis) and stays within the spheres' reach (with "all", the
   // planes of the covered faces throw it off through the other sphere, 0.47 m on 2026-11-29).
   const torch::Tensor left_behind = s.state.x.clone();
-  const TermList terms = build_terms(s.state.effects, config);
-  const torch::Tensor outer_x =
-      solve_reference_step(s.state, s.cloth, terms, &*all, config.solver, &*barrier, &left_behind).x_next;
+  const torch::Tensor outer_x = refine_with_solver(s.state, s.cloth, config, left_behind).x_next;
   const double start_axis = left_behind.slice(1, 1, 3).norm(2, 1).mean().item<double>();
   EXPECT_GT(outer_x.slice(1, 1, 3).norm(2, 1).mean().item<double>(), start_axis + 0.04);
   EXPECT_LT(outer_x.abs().max().item<double>(), 0.11);
