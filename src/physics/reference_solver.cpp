@@ -155,6 +155,9 @@ class IncrementalPotentialSolve {
   // The solver's own start, kept beside a given step: without barrier contact both are feasible,
   // and the solve starts from whichever is lower in its objective (SolverResult::own_start).
   torch::Tensor x_own;
+  // The cloth where it stands at t, pins at their targets: without barrier contact, a third start
+  // where the ballistic prediction is higher (SolverResult::standing_start).
+  torch::Tensor x_standing;
   torch::Tensor pinned;  // (n,) bool
   torch::Tensor free;    // the free rows; q holds their coordinates
   int64_t nf = 0;
@@ -279,6 +282,7 @@ void IncrementalPotentialSolve::place_ballistic_start(const torch::Tensor* x_sta
       x_base = torch::where(pinned.unsqueeze(1), state.pin_targets.to(opts), x_base);
     }
   }
+  if (!barrier) x_standing = torch::where(pinned.unsqueeze(1), x_base, state.x.to(opts)).detach();
   if (x_start) {  // a given step (the network's) instead of the ballistic prediction; pins as held
     if (x_start->sizes() != state.x.sizes()) throw Error("reference solver: the start step is not (n, 3)");
     if (!barrier) x_own = x_base;
@@ -299,11 +303,10 @@ void IncrementalPotentialSolve::shorten_start_edges() {
   strain_edges = barrier ? barrier->cloth_edges : unique_edges(index_tensor_to_matrix(cloth.faces));
   rest_length = tensor_to_matrix(cloth.edge_rest_length.to(torch::kCPU, torch::kFloat64).reshape({-1, 1})).col(0);
   const double inside = std::max(0.0, config.strain_limit - 0.5 * config.strain_barrier_gap);
-  x_base = matrix_to_tensor(shorten_overstretched_edges(tensor_to_matrix(x_base), strain_edges, rest_length, inside, pinned_flags),
+  for (torch::Tensor* x : {&x_base, &x_own, &x_standing})
+    if (x->defined())
+      *x = matrix_to_tensor(shorten_overstretched_edges(tensor_to_matrix(*x), strain_edges, rest_length, inside, pinned_flags),
                             opts.dtype().toScalarType(), state.x.device());
-  if (x_own.defined())
-    x_own = matrix_to_tensor(shorten_overstretched_edges(tensor_to_matrix(x_own), strain_edges, rest_length, inside, pinned_flags),
-                             opts.dtype().toScalarType(), state.x.device());
 }
 
 // Barrier contact: the solve starts from an intersection-free cloth (pins where it could bring
@@ -384,23 +387,28 @@ void IncrementalPotentialSolve::make_inverse_hessian() {
   }
 }
 
-// q, g, E at the start; a given step above the solver's own start is not the better start.
+// q, g, E at the start; a given step above the solver's own start is not the better start, and
+// neither is a ballistic prediction above the cloth where it stands.
 void IncrementalPotentialSolve::pick_start() {
   q = x_base.index_select(0, free).reshape({-1});
   E = evaluate(q, &g);
-  if (!x_own.defined()) return;
-  torch::Tensor g_own;
-  const torch::Tensor q_own = x_own.index_select(0, free).reshape({-1});
-  const double E_own = evaluate(q_own, &g_own);
-  if (E_own < E || !std::isfinite(E)) {
-    spdlog::debug("reference solver: the given step ({:.6g} J) starts above the solver's own start ({:.6g} J): "
-                  "starting from its own",
-                  E, E_own);
-    q = q_own;
-    g = g_own;
-    E = E_own;
-    result.own_start = true;
-  }
+  // Takes `x` as the start where it is lower in the objective than the one so far.
+  auto lower = [&](const torch::Tensor& x, const char* what) {
+    torch::Tensor g_x;
+    const torch::Tensor q_x = x.index_select(0, free).reshape({-1});
+    const double E_x = evaluate(q_x, &g_x);
+    if (!(E_x < E || (!std::isfinite(E) && std::isfinite(E_x)))) return false;
+    spdlog::debug("reference solver: starting from {} ({:.6g} J), lower than {:.6g} J", what, E_x, E);
+    q = q_x;
+    g = g_x;
+    E = E_x;
+    return true;
+  };
+  if (x_own.defined()) result.own_start = lower(x_own, "its own start (the given step is higher)");
+  // Where the prediction carries a velocity the elastic terms resist hard, e.g. across a sliver
+  // triangle whose rest height is 1e-8 m, doubling a residual offset from the last step costs
+  // more than the kinetic energy that standing still gives up.
+  if (x_standing.defined()) result.standing_start = lower(x_standing, "the cloth where it stands");
 }
 
 void IncrementalPotentialSolve::exclude_overstretched(const Eigen::MatrixXd& X) {
@@ -854,6 +862,11 @@ SolverResult IncrementalPotentialSolve::finish() {
                   result.min_area_ratio, result.area_excluded,
                   stopped_by, 1e3 * step_norm, result.gradient_norm, ms_since(start_time));
   }
+  if (!barrier)
+    spdlog::debug("solver step: {} iterations, {} evaluations, stopped by {} (step {:.3g} mm, largest gradient {:.3g} N), "
+                  "{:.0f} ms",
+                  result.iterations, result.evaluations, stopped_by, 1e3 * step_norm, result.gradient_norm,
+                  ms_since(start_time));
   result.energy = E;
   result.step_norm = step_norm;
   result.converged = step_norm <= config.step_tolerance || small_decrease(last_slope);

@@ -55,6 +55,9 @@ struct SolverResult {
   // where it is lower in the objective than the solver's own start (the ballistic prediction,
   // pins at their targets); true where the own start was used.
   bool own_start = false;
+  // Without barrier contact: the solve started from the cloth where it stands at t (pins at
+  // their targets), which was lower in the objective than the prediction (or the given step).
+  bool standing_start = false;
 };
 
 // The body of one step as intersection-free contact sees it: the body at t and t + dt, its
