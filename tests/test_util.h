@@ -31,6 +31,12 @@ const std::string& tiny_dataset();
 // An n x n grid of unit squares split into 2 n^2 triangles, in the xz plane at y = 0.
 TriMesh grid_mesh(int n, double size = 1.0);
 
+// A res_x x res_y cloth hanging in the xy plane (top row at y = 1 m, rows dy apart, odd rows
+// shifted by dx / 2, so every edge is at least dx / 2 long), faces oriented +z. Row
+// `thin_row`'s strip (between it and the next row) is squeezed to height `thin_height` (m):
+// 1e-8 makes sliver triangles of area ~ dx * 1e-8 / 2, 0 zero-area ones. thin_row < 0: none.
+TriMesh lattice_cloth(int res_x, int res_y, double dx, int thin_row = -1, double thin_height = 0.0);
+
 // The closed box [lo, hi] as 12 outward triangles (two per side).
 TriMesh box_mesh(const Eigen::RowVector3d& lo, const Eigen::RowVector3d& hi);
 // Two meshes as one (b's indices shifted): a surface made of parts that may overlap.

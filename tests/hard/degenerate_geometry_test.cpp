@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "hard_case.h"
+#include "test_util.h"
 #include "pb4u/graph/build_graph.h"
 #include "pb4u/physics/bending_energy.h"
 #include "pb4u/physics/body_queries.h"
@@ -51,7 +52,7 @@ void expect_finite_graph(const std::string& label, const TriMesh& rest, const Fr
 }
 
 TEST(DegenerateGeometry, SliverRestTrianglesUnderLoad) {
-  TriMesh rest = hard::lattice_cloth(6, 6, 0.03, 2, 1e-8);  // areas ~ 1.5e-10 m^2
+  TriMesh rest = test::lattice_cloth(6, 6, 0.03, 2, 1e-8);  // areas ~ 1.5e-10 m^2
   Eigen::MatrixXd x = rest.V;
   x.col(1) *= 1.05;  // stretched 5% vertically: the sliver strip's Dm^-1 ~ 1e8 /m amplifies it
   x(14, 2) = 1e-3;   // and one vertex pushed out of plane
@@ -87,7 +88,7 @@ TEST(DegenerateGeometry, HingesFoldedToPiStayFiniteAndContinuous) {
 }
 
 TEST(DegenerateGeometry, TrianglesCollapsedToAPointInTheCurrentState) {
-  TriMesh rest = hard::lattice_cloth(5, 5, 0.03);
+  TriMesh rest = test::lattice_cloth(5, 5, 0.03);
   Eigen::MatrixXd x = rest.V;
   // Face 0's three vertices on one point: zero area, zero-length edges, undefined normal.
   for (int k = 1; k < 3; ++k) x.row(rest.F(0, k)) = x.row(rest.F(0, 0));
@@ -100,7 +101,7 @@ TEST(DegenerateGeometry, TrianglesCollapsedToAPointInTheCurrentState) {
 TEST(DegenerateGeometry, BodyFacesCollapsedAndGarmentInsideTheBody) {
   // A body with a zero-area face and the garment entirely inside it: collision and friction
   // must stay finite (degenerate body normals are not normalised by zero).
-  TriMesh rest = hard::lattice_cloth(4, 4, 0.02);
+  TriMesh rest = test::lattice_cloth(4, 4, 0.02);
   Eigen::MatrixXd bv;
   Eigen::MatrixXi bf;
   hard::box_mesh(rest.V.colwise().mean().transpose(), 0.2, &bv, &bf);

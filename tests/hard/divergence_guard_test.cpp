@@ -26,7 +26,7 @@ namespace pb4u {
 namespace {
 
 TEST(DivergenceGuard, RolloutStopsAtTheFirstNonFiniteFrameAndNamesTheVertex) {
-  TriMesh cloth = hard::lattice_cloth(6, 6, 0.03);
+  TriMesh cloth = test::lattice_cloth(6, 6, 0.03);
   RolloutInput in = hard::still_start(cloth, Effects::from_names({"gravity", "pins"}, "test"), Material{}, 8);
   const int bad_frame = 4, bad_vertex = 17;
   int frame = 0;
@@ -86,7 +86,7 @@ int expected_trip_frame(double area, const Material& m, double growth, const Div
 }
 
 TEST(DivergenceGuard, PositiveEnergyPastTheRatioStopsTheRolloutAtThatFrame) {
-  TriMesh cloth = hard::lattice_cloth(6, 6, 0.03);
+  TriMesh cloth = test::lattice_cloth(6, 6, 0.03);
   const double area = face_areas(cloth.V, cloth.F).sum();
   struct Case {
     double growth, ratio;
@@ -123,7 +123,7 @@ TEST(DivergenceGuard, PositiveEnergyPastTheRatioStopsTheRolloutAtThatFrame) {
 }
 
 TEST(DivergenceGuard, ACalmReferenceRolloutRunsToTheEnd) {
-  TriMesh cloth = hard::lattice_cloth(5, 5, 0.03);
+  TriMesh cloth = test::lattice_cloth(5, 5, 0.03);
   RolloutInput in = hard::still_start(cloth, Effects::from_names({"gravity", "pins"}, "test"), Material{}, 30);
   RolloutResult r = run_rollout(in, reference_stepper({}), PhysicsConfig{});
   EXPECT_FALSE(r.diverged) << r.diverged_reason;

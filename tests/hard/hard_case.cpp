@@ -55,32 +55,6 @@ ModelFile untrained_model(double lbar_base) {
   return m;
 }
 
-TriMesh lattice_cloth(int res_x, int res_y, double dx, int thin_row, double thin_height) {
-  const double dy = dx * std::sqrt(3.0) / 2;
-  TriMesh m;
-  m.V.resize(res_x * res_y, 3);
-  double y = 1.0;
-  for (int r = 0; r < res_y; ++r) {
-    for (int c = 0; c < res_x; ++c) m.V.row(r * res_x + c) << c * dx + (r % 2) * dx / 2, y, 0.0;
-    y -= r == thin_row ? thin_height : dy;
-  }
-  m.F.resize(2 * (res_x - 1) * (res_y - 1), 3);
-  int f = 0;
-  for (int r = 0; r + 1 < res_y; ++r)
-    for (int c = 0; c + 1 < res_x; ++c) {
-      const int t0 = r * res_x + c, t1 = t0 + 1, b0 = t0 + res_x, b1 = b0 + 1;
-      // Rows go down (-y) and columns right (+x): (t, b, ...) counter-clockwise seen from +z.
-      if (r % 2 == 0) {
-        m.F.row(f++) << t0, b0, t1;
-        m.F.row(f++) << t1, b0, b1;
-      } else {
-        m.F.row(f++) << t0, b0, b1;
-        m.F.row(f++) << t0, b1, t1;
-      }
-    }
-  return m;
-}
-
 void box_mesh(const Eigen::Vector3d& c, double h, Eigen::MatrixXd* V, Eigen::MatrixXi* F) {
   V->resize(8, 3);
   for (int i = 0; i < 8; ++i)

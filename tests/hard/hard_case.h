@@ -31,12 +31,6 @@ const ModelFile& shipped_model();
 // eval mode with empty normalisers (identity): what an untrained network does on its own.
 ModelFile untrained_model(double lbar_base);
 
-// A res_x x res_y cloth hanging in the xy plane (top row at y = 1 m, rows dy apart, odd rows
-// shifted by dx / 2, so every edge is at least dx / 2 long), faces oriented +z. Row
-// `thin_row`'s strip (between it and the next row) is squeezed to height `thin_height` (m):
-// 1e-8 makes sliver triangles of area ~ dx * 1e-8 / 2, 0 zero-area ones. thin_row < 0: none.
-TriMesh lattice_cloth(int res_x, int res_y, double dx, int thin_row = -1, double thin_height = 0.0);
-
 // A closed, outward-oriented axis-aligned box (12 triangles) of half-size h centred at c.
 void box_mesh(const Eigen::Vector3d& c, double h, Eigen::MatrixXd* V, Eigen::MatrixXi* F);
 

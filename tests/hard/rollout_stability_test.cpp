@@ -71,7 +71,7 @@ TEST_F(HardCases, FinestLevelNeverSeenInTraining) {
   const double lbar_base = hard::shipped_model().model->mean_edge_length_base();
   for (int finer : {2, 4}) {
     const int res = (4 + 2 * finer) * hard::scale();
-    TriMesh cloth = hard::lattice_cloth(res, res, lbar_base / finer);
+    TriMesh cloth = test::lattice_cloth(res, res, lbar_base / finer);
     GarmentTopology topology = build_garment_topology(cloth);
     EXPECT_GE(hard::shipped_model().model->propagation_steps_for(topology.mean_edge_length),
               finer * hard::shipped_model().config.k_base - 1);
@@ -91,7 +91,7 @@ TEST_F(HardCases, FinestLevelNeverSeenInTraining) {
 TEST_F(HardCases, HangingAtHalfTheTrainingEdge) {
   const double lbar_base = hard::shipped_model().model->mean_edge_length_base();
   const int res = 40;  // vertices per side: 0.52 m at Lbar_base / 2
-  TriMesh cloth = hard::lattice_cloth(res, res, lbar_base / 2);
+  TriMesh cloth = test::lattice_cloth(res, res, lbar_base / 2);
   GarmentTopology topology = build_garment_topology(cloth);
   RolloutInput in = hard::still_start(cloth, kHanging, Material{}, 30);
   const auto reference = hard::check_reference("hanging at Lbar_base/2", in, {});
@@ -168,7 +168,7 @@ TEST_F(HardCases, ExtremeMaterials) {
   cases[3].m = cases[1].m;
   cases[3].m.density *= 10, cases[3].m.mu *= 10, cases[3].m.lambda *= 10, cases[3].m.bending *= 10;
   const double lbar = hard::shipped_model().model->mean_edge_length_base();
-  TriMesh cloth = hard::lattice_cloth(6 * hard::scale(), 6 * hard::scale(), lbar);
+  TriMesh cloth = test::lattice_cloth(6 * hard::scale(), 6 * hard::scale(), lbar);
   for (const Case& c : cases)
     check_methods("material " + c.name, hard::still_start(cloth, kHanging, c.m, 8 * hard::scale()), {kNoBlowUp});
 }
@@ -176,7 +176,7 @@ TEST_F(HardCases, ExtremeMaterials) {
 TEST_F(HardCases, SliverTriangles) {
   // A strip of triangles 1e-8 m high: area ~ lbar * 0.5e-8 ~ 1e-10 m^2, rest Dm^-1 ~ 1e8 /m.
   const double lbar = hard::shipped_model().model->mean_edge_length_base();
-  TriMesh cloth = hard::lattice_cloth(7 * hard::scale(), 7 * hard::scale(), lbar, 3, 1e-8);
+  TriMesh cloth = test::lattice_cloth(7 * hard::scale(), 7 * hard::scale(), lbar, 3, 1e-8);
   const Eigen::VectorXd A = face_areas(cloth.V, cloth.F);
   EXPECT_LT(A.minCoeff(), 1e-9);
   EXPECT_GT(A.minCoeff(), 0.0);
@@ -187,7 +187,7 @@ TEST_F(HardCases, ZeroAreaRegion) {
   // A strip of zero-area triangles: no material there (its edges are not bounded), and the
   // cloth below it hangs on nothing. Every other edge must still hold.
   const double lbar = hard::shipped_model().model->mean_edge_length_base();
-  TriMesh cloth = hard::lattice_cloth(7 * hard::scale(), 7 * hard::scale(), lbar, 3, 0.0);
+  TriMesh cloth = test::lattice_cloth(7 * hard::scale(), 7 * hard::scale(), lbar, 3, 0.0);
   EXPECT_EQ(face_areas(cloth.V, cloth.F).minCoeff(), 0.0);
   check_methods("zero-area strip", hard::still_start(cloth, kHanging, Material{}, 8 * hard::scale()), {kNoBlowUp, true});
 }
@@ -198,7 +198,7 @@ TEST_F(HardCases, MasslessVerticesUnderTheLastZeroAreaStrip) {
   // with an error naming the vertex.
   const double lbar = hard::shipped_model().model->mean_edge_length_base();
   const int res = 5 * hard::scale();
-  TriMesh cloth = hard::lattice_cloth(res, res, lbar, res - 2, 0.0);
+  TriMesh cloth = test::lattice_cloth(res, res, lbar, res - 2, 0.0);
   RolloutInput in = hard::still_start(cloth, kHanging, Material{}, 6 * hard::scale());
   check_rollout("massless bottom row / reference", in, reference_stepper({}), {});
   try {
@@ -214,7 +214,7 @@ TEST_F(HardCases, LongRollout1000Frames) {
   const double lbar = hard::shipped_model().model->mean_edge_length_base();
   // No body, no gravity (4% of the network's training samples): a cloth at rest, which the
   // reference solver keeps exactly at rest (zero gradient: no iteration per frame).
-  TriMesh cloth = hard::lattice_cloth(6 * hard::scale(), 6 * hard::scale(), lbar);
+  TriMesh cloth = test::lattice_cloth(6 * hard::scale(), 6 * hard::scale(), lbar);
   GarmentTopology topology = build_garment_topology(cloth);
   RolloutInput floating = hard::still_start(cloth, Effects::from_names({}, "test"), Material{}, frames);
   check_rollout("long floating / untrained", floating,
@@ -223,7 +223,7 @@ TEST_F(HardCases, LongRollout1000Frames) {
   hard::check_shipped("long floating", floating, topology, {}, floating_reference, {});
   // Hanging from pins (which training never samples) on a tiny cloth: the reference solver
   // costs ~10 ms a frame on it.
-  TriMesh small = hard::lattice_cloth(3 * hard::scale(), 3 * hard::scale(), lbar);
+  TriMesh small = test::lattice_cloth(3 * hard::scale(), 3 * hard::scale(), lbar);
   GarmentTopology small_topology = build_garment_topology(small);
   RolloutInput hanging = hard::still_start(small, kHanging, Material{}, frames);
   const auto hanging_reference = hard::check_reference("long hanging", hanging, {});
@@ -239,7 +239,7 @@ TEST_F(HardCases, LongRollout1000Frames) {
 void check_box_through_cloth(const std::string& label, const PhysicsConfig& physics) {
   const double lbar = hard::shipped_model().model->mean_edge_length_base();
   const int res = 7 * hard::scale();
-  TriMesh cloth = hard::lattice_cloth(res, res, lbar);
+  TriMesh cloth = test::lattice_cloth(res, res, lbar);
   const Eigen::Vector3d centre = cloth.V.colwise().mean().transpose();
   const double box_speed = 6.0;  // m/s
   // 6 frames: the box crosses the cloth at frame 3 and is 60 cm past it at frame 6.
