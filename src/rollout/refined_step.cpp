@@ -24,7 +24,7 @@ ReferenceSolverConfig refining_solver(const ReferenceSolverConfig& solver, int i
 
 torch::Tensor refine_with(const torch::Tensor& x_step, const FrameState& state, const ClothGeometry& cloth,
                           const TermList& terms, const BodyContact* contact, const ReferenceSolverConfig& config,
-                          ContactStepLog* log, double* step_norm = nullptr) {
+                          ContactStepLog* log, double* step_norm = nullptr, int* excluded = nullptr) {
   const torch::Tensor start = x_step.to(torch::kFloat64);
   const std::optional<BarrierStepInput> barrier = barrier_step_input(state, cloth, config);
   SolverResult r = solve_reference_step(state, cloth, terms, contact, config, barrier ? &*barrier : nullptr, &start);
@@ -39,6 +39,7 @@ torch::Tensor refine_with(const torch::Tensor& x_step, const FrameState& state, 
   }
   if (log) *log = {r.excluded, r.caught_by_body, r.body_lag, r.excluded_vertices, r.barrier_stiffness, r.own_start};
   if (step_norm) *step_norm = r.step_norm;
+  if (excluded) *excluded = r.excluded;
   return r.x_next.to(torch::kFloat64);
 }
 
@@ -46,6 +47,9 @@ torch::Tensor refine_with(const torch::Tensor& x_step, const FrameState& state, 
 struct RefiningSolvers {
   std::optional<ReferenceSolverConfig> fixed, to_tolerance;
   double tolerance_m = 0;
+  // given_start fewer_left_out_to_tolerance: the solve to the tolerance also runs where the
+  // count reached it but left vertices out of contact.
+  bool on_where_left_out = false;
 };
 
 RefiningSolvers refining_solvers(const ReferenceSolverConfig& solver, const RefineConfig& refine) {
@@ -53,10 +57,20 @@ RefiningSolvers refining_solvers(const ReferenceSolverConfig& solver, const Refi
   ReferenceSolverConfig base = solver;
   base.step = refine.step;
   // A count of 0 without a tolerance still makes the step feasible (intersection-free start).
-  if (refine.iterations > 0 || !(refine.tolerance_mm > 0)) s.fixed = refining_solver(base, refine.iterations, 0);
+  // fewer_left_out_to_tolerance: a fixed count starts from the step where it stands; the solve
+  // to the tolerance may start swept. A swept start leaves the body its whole motion to make,
+  // cloth carried along, which a few iterations do not finish (docs/physics.md, "Where a
+  // refinement starts").
+  const bool to_tolerance_only = solver.given_start == "fewer_left_out_to_tolerance";
+  if (refine.iterations > 0 || !(refine.tolerance_mm > 0)) {
+    s.fixed = refining_solver(base, refine.iterations, 0);
+    if (to_tolerance_only) s.fixed->given_start = "at_step";
+  }
   if (refine.tolerance_mm > 0) {
     s.to_tolerance = refining_solver(base, 0, refine.tolerance_mm);
     s.tolerance_m = 1e-3 * refine.tolerance_mm;
+    if (to_tolerance_only) s.to_tolerance->given_start = "fewer_left_out";
+    s.on_where_left_out = to_tolerance_only;
   }
   return s;
 }
@@ -66,10 +80,12 @@ torch::Tensor refine_by(const RefiningSolvers& s, const torch::Tensor& x_step, c
                         ContactStepLog* log) {
   torch::Tensor x = x_step;
   double step_norm = std::numeric_limits<double>::infinity();
-  if (s.fixed) x = refine_with(x, state, cloth, terms, contact, *s.fixed, log, &step_norm);
+  int excluded = 0;
+  if (s.fixed) x = refine_with(x, state, cloth, terms, contact, *s.fixed, log, &step_norm, &excluded);
   const bool own_start = log && log->own_start;
-  // Past the fixed count, on to the tolerance unless the count already got there.
-  if (s.to_tolerance && !(step_norm <= s.tolerance_m)) {
+  // Past the fixed count, on to the tolerance unless the count already got there (with nothing
+  // left out, where the rule says so).
+  if (s.to_tolerance && (!(step_norm <= s.tolerance_m) || (s.on_where_left_out && excluded > 0))) {
     x = refine_with(x, state, cloth, terms, contact, *s.to_tolerance, log);
     if (log) log->own_start = log->own_start || own_start;
   }

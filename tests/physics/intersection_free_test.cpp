@@ -882,6 +882,50 @@ TEST(RefinedStep, AStepLeftInsideAFastBodyCanStartSweptFromTheClothAtT) {
   }
 }
 
+// The sphere rises 0.2 m in the frame, through the cloth left where it was: made free where it
+// stands (at_step) the step leaves 7 vertices out of contact and cloth edges through the sphere;
+// swept, the sphere carries the cloth up and leaves none out. fewer_left_out_to_tolerance takes
+// the step where it stands for a fixed count (a swept start leaves the sphere's whole motion to
+// the iterations: on the demo walk one iteration a frame from it diverges, docs/physics.md) and
+// sweeps in the solve to the tolerance, which runs even where the count met the tolerance, as
+// long as the count left vertices out.
+TEST(RefinedStep, FewerLeftOutToToleranceCountsFromTheStepAndSolvesToTheToleranceSwept) {
+  RisingSphere s;
+  Eigen::MatrixXd at_next = s.sphere.V;
+  at_next.col(1).array() += 0.2;
+  s.state.body.next_vertices = test::positions_tensor(at_next);
+  const torch::Tensor left_behind = s.state.x.clone();
+  auto refined = [&](const std::string& given_start, int iterations, double tolerance_mm, ContactStepLog* log) {
+    PhysicsConfig config = barrier_config();
+    config.solver.given_start = given_start;
+    const TermList terms = build_terms(s.state.effects, config);
+    const std::optional<BodyContact> contact = body_contact_for(s.state, config);
+    RefineConfig refine;
+    refine.iterations = iterations;
+    refine.tolerance_mm = tolerance_mm;
+    return refine_step(left_behind, s.state, s.cloth, terms, &*contact, config.solver, refine, log);
+  };
+  ContactStepLog log;
+  const torch::Tensor at_step = refined("at_step", 2, 0, &log);
+  ASSERT_GT(log.excluded, 0) << "the step cuts the sphere with no free place near";
+  ASSERT_GT(freedom(tensor_to_matrix(at_step), s.edges, at_next, s.sphere.F).edges_through, 0);
+  const torch::Tensor fewer = refined("fewer_left_out", 2, 0, &log);
+  ASSERT_EQ(log.excluded, 0);
+  ASSERT_FALSE(torch::equal(fewer, at_step)) << "fewer_left_out sweeps at a fixed count";
+  EXPECT_TRUE(torch::equal(refined("fewer_left_out_to_tolerance", 2, 0, &log), at_step));
+  EXPECT_GT(log.excluded, 0);
+  // 2 iterations then to 1 mm, and then to a tolerance the 2 iterations already meet: at_step
+  // stops with the cloth through the sphere, the rule goes on from its own sweep.
+  for (const double tolerance_mm : {1.0, 1000.0}) {
+    EXPECT_TRUE(torch::equal(refined("at_step", 2, 1000.0, &log), at_step));
+    const torch::Tensor x = refined("fewer_left_out_to_tolerance", 2, tolerance_mm, &log);
+    EXPECT_EQ(log.excluded, 0) << tolerance_mm << " mm";
+    const Freedom f = freedom(tensor_to_matrix(x), s.edges, at_next, s.sphere.F);
+    EXPECT_GT(f.min_distance, 0) << tolerance_mm << " mm";
+    EXPECT_EQ(f.edges_through, 0) << tolerance_mm << " mm";
+  }
+}
+
 // Two spheres (r = 0.1 m) 0.1 m apart close on a 2 cm patch between them and overlap by 0.1 m
 // at t + dt: the body crosses itself where the patch is, the patch inside both spheres there.
 struct SpheresClosingOnPatch {

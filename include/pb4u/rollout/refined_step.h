@@ -2,8 +2,9 @@
 // A stepper's step (the network's) refined by the reference solver: the solve starts from the
 // step instead of the ballistic prediction. With the intersection-free contact (solver.contact
 // = barrier, a body) the step is first made free of the body (intersection_free_start.h):
-// where it stands, against the body at its pose at t + dt (the default), or swept from the
-// cloth at t against the moving body (solver.given_start). So for
+// where it stands, against the body at its pose at t + dt, or swept from the cloth at t
+// against the moving body (solver.given_start; by default where it stands for a fixed count,
+// and in the solve to a tolerance swept where that leaves fewer vertices out). So for
 // any number of iterations the output is intersection-free (but for the vertices the start
 // could not free, which the penalty term holds) and its incremental potential, the solver's
 // objective, is no higher than the start's (the line search only takes steps that lower it;
