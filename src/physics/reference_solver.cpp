@@ -921,10 +921,11 @@ std::optional<BarrierStepInput> barrier_step_input(const FrameState& state, cons
   using GivenStart = BarrierStepInput::GivenStart;
   input.given_start = config.given_start == "at_step"            ? GivenStart::at_step
                       : config.given_start == "swept"            ? GivenStart::swept
-                      : config.given_start == "fewer_left_out" ||
-                              config.given_start == "fewer_left_out_to_tolerance"  // a solve runs to its tolerance
-                          ? GivenStart::fewer_left_out
-                          : GivenStart::swept_if_left_out;
+                      : config.given_start == "fewer_left_out"   ? GivenStart::fewer_left_out
+                      : config.given_start == "swept_if_left_out" ? GivenStart::swept_if_left_out
+                                                                 : GivenStart::at_step;
+  // fewer_left_out_to_tolerance is at_step here: a refinement (refined_step) gives its solve to
+  // the tolerance fewer_left_out itself.
   if (config.penalty_faces == "outer") input.outer_faces = uncovered_face_rows(state);
   if (config.barrier_stiffness_max > 0 && config.barrier_stiffness_max < config.barrier_stiffness)
     throw Error("reference solver: solver.barrier_stiffness_max (" + std::to_string(config.barrier_stiffness_max) +

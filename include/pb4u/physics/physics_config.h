@@ -140,7 +140,7 @@ struct ReferenceSolverConfig {
   // fewer out; "swept_if_left_out" = at_step, unless that leaves any vertex out of contact, then
   // swept; "fewer_left_out_to_tolerance" (the default) = at_step for a refinement's fixed count
   // of iterations, fewer_left_out for its solve to the tolerance, which then also runs where the
-  // count left vertices out. A step checked only where it ends can have passed through a fast
+  // count left vertices out (a solve from a given step outside a refinement: at_step). A step checked only where it ends can have passed through a fast
   // body or be pinched where the body crosses itself, which the swept start undoes; but a swept
   // start leaves the body's whole motion to the solve, which a few iterations do not finish
   // (fewer_left_out diverges on the demo walk at one iteration a frame). docs/physics.md, "Where
