@@ -57,15 +57,12 @@ RefiningSolvers refining_solvers(const ReferenceSolverConfig& solver, const Refi
   ReferenceSolverConfig base = solver;
   base.step = refine.step;
   // A count of 0 without a tolerance still makes the step feasible (intersection-free start).
-  // fewer_left_out_to_tolerance: a fixed count starts from the step where it stands; the solve
-  // to the tolerance may start swept. A swept start leaves the body its whole motion to make,
-  // cloth carried along, which a few iterations do not finish (docs/physics.md, "Where a
-  // refinement starts").
+  // fewer_left_out_to_tolerance: a fixed count starts from the step where it stands (the solver
+  // reads the rule as at_step); the solve to the tolerance may start swept. A swept start leaves
+  // the body its whole motion to make, cloth carried along, which a few iterations do not finish
+  // (docs/physics.md, "Where a refinement starts").
   const bool to_tolerance_only = solver.given_start == "fewer_left_out_to_tolerance";
-  if (refine.iterations > 0 || !(refine.tolerance_mm > 0)) {
-    s.fixed = refining_solver(base, refine.iterations, 0);
-    if (to_tolerance_only) s.fixed->given_start = "at_step";
-  }
+  if (refine.iterations > 0 || !(refine.tolerance_mm > 0)) s.fixed = refining_solver(base, refine.iterations, 0);
   if (refine.tolerance_mm > 0) {
     s.to_tolerance = refining_solver(base, 0, refine.tolerance_mm);
     s.tolerance_m = 1e-3 * refine.tolerance_mm;

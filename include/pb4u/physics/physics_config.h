@@ -140,11 +140,11 @@ struct ReferenceSolverConfig {
   // fewer out; "swept_if_left_out" = at_step, unless that leaves any vertex out of contact, then
   // swept; "fewer_left_out_to_tolerance" (the default) = at_step for a refinement's fixed count
   // of iterations, fewer_left_out for its solve to the tolerance, which then also runs where the
-  // count left vertices out (a solve from a given step outside a refinement: at_step). A step checked only where it ends can have passed through a fast
-  // body or be pinched where the body crosses itself, which the swept start undoes; but a swept
-  // start leaves the body's whole motion to the solve, which a few iterations do not finish
-  // (fewer_left_out diverges on the demo walk at one iteration a frame). docs/physics.md, "Where
-  // a refinement starts", has the figures.
+  // count left vertices out (a solve from a given step outside a refinement: at_step). A step
+  // checked only where it ends can have passed through a fast body or be pinched where the body
+  // crosses itself, which the swept start undoes; but a swept start leaves the body's whole
+  // motion to the solve, which a few iterations do not finish (fewer_left_out diverges on the demo
+  // walk at one iteration a frame). docs/physics.md, "Where a refinement starts", has the figures.
   std::string given_start = "fewer_left_out_to_tolerance";
   // Where the body, held up by the cloth, is placed at its pose after its moves: true = the
   // cloth it then cuts or holds is first pushed out of it as a start is (intersection_free_start:
@@ -220,7 +220,8 @@ struct ReferenceSolverConfig {
     v("strain_barrier_stiffness", strain_barrier_stiffness, positive());
     v("area_barrier_gap", area_barrier_gap, in_range(0.0, 1.0));
     v("area_barrier_stiffness", area_barrier_stiffness, positive());
-    v("given_start", given_start, one_of({"at_step", "swept", "fewer_left_out", "swept_if_left_out", "fewer_left_out_to_tolerance"}));
+    v("given_start", given_start,
+      one_of({"at_step", "swept", "fewer_left_out", "swept_if_left_out", "fewer_left_out_to_tolerance"}));
     v("push_out_caught", push_out_caught);
     v("release_held_cloth", release_held_cloth);
     v("body_carry", body_carry, one_of({"push", "ride"}));
