@@ -71,11 +71,12 @@ BodyContact query_body_contact(const torch::Tensor& x, const BodyFrame& body,
   c.motion = c.point - c_t.index_select(0, c.face);
   c.distance = ((x.detach() - c_t.index_select(0, c.face)) * n_t.index_select(0, c.face)).sum(1);
   c.in_contact = c.distance < contact_radius;
+  c.degenerate_area = degenerate_area;
   return c;
 }
 
 BodyContact contact_on_faces(const BodyContact& contact, const torch::Tensor& x, const BodyFrame& body,
-                             const std::vector<int64_t>& rows, double degenerate_area) {
+                             const std::vector<int64_t>& rows) {
   if (rows.empty()) throw Error("body queries: no body face to measure the contact against");
   const int64_t faces = body.faces.size(0);
   for (int64_t r : rows)
@@ -83,7 +84,7 @@ BodyContact contact_on_faces(const BodyContact& contact, const torch::Tensor& x,
   const torch::Tensor kept = torch::tensor(rows, torch::kInt64).to(body.faces.device());
   BodyFrame some = body;
   some.faces = body.faces.index_select(0, kept);
-  BodyContact c = query_body_contact(x, some, std::numeric_limits<double>::infinity(), degenerate_area);
+  BodyContact c = query_body_contact(x, some, std::numeric_limits<double>::infinity(), contact.degenerate_area);
   c.face = kept.to(c.face.device()).index_select(0, c.face);
   c.in_contact = contact.in_contact;
   return c;

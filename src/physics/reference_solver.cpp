@@ -897,8 +897,7 @@ SolverResult solve_reference_step(const FrameState& state, const ClothGeometry& 
 
 std::optional<BodyContact> BarrierStepInput::solved_contact(const FrameState& state, const BodyContact* contact) const {
   if (outer_faces.empty() || !contact) return std::nullopt;
-  // The contact's normals are unit above PhysicsConfig's degenerate area, as the step's own.
-  return contact_on_faces(*contact, state.x, state.body, outer_faces, PhysicsConfig().degenerate_area);
+  return contact_on_faces(*contact, state.x, state.body, outer_faces);  // the step's degenerate area
 }
 
 bool BarrierStepInput::drops(const PhysicsTerm& term) const { return !keeps_penalty && term.name() == "collision"; }

@@ -198,6 +198,26 @@ TEST(Collision, UsesTheNextBodyPose) {
   EXPECT_NEAR(collision_energy(x, c, 2e-3, 5e5).item<double>(), 5e5 * std::pow(2e-3 - d, 3), 1e-12);
 }
 
+// Measured again against some of the body's faces, a contact keeps the degenerate area its
+// query was made with: below it (the floor's faces: 2 x area = 25 m^2 each), their normals
+// stay unnormalised, |n| = 25 / 100, in the query and in the measure against the faces.
+TEST(Collision, ContactOnFacesKeepsTheQuerysDegenerateArea) {
+  BodyFrame body = floor_body();
+  torch::Tensor x = torch::tensor({{0.3, 0.005, -0.2}, {-4.0, 0.02, 3.0}}, torch::kFloat64);
+  const double degenerate = 100.0, twice_area = std::pow(20.0 / 4, 2);
+  BodyContact c = query_body_contact(x, body, 5e-3, degenerate);
+  EXPECT_EQ(c.degenerate_area, degenerate);
+  std::vector<int64_t> rows(body.faces.size(0));
+  for (size_t f = 0; f < rows.size(); ++f) rows[f] = int64_t(f);
+  BodyContact on_faces = contact_on_faces(c, x, body, rows);
+  EXPECT_EQ(on_faces.degenerate_area, degenerate);
+  EXPECT_TRUE(torch::equal(on_faces.face, c.face));
+  for (int i = 0; i < 2; ++i) {
+    EXPECT_NEAR(on_faces.normal[i].norm().item<double>(), twice_area / degenerate, 1e-12);
+    EXPECT_NEAR(on_faces.normal[i][1].item<double>(), twice_area / degenerate, 1e-12);
+  }
+}
+
 TEST(Friction, ZeroWhenMovingWithTheBodyAndClosedFormWhenSliding) {
   TriMesh g = test::grid_mesh(2, 0.2);
   g.V.col(1).array() += 1e-3;  // resting 1 mm above the floor: in contact

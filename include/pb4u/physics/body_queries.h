@@ -20,6 +20,7 @@ struct BodyContact {
   torch::Tensor motion;      // (n, 3) m: displacement of the centroid from t to t + dt
   torch::Tensor distance;    // (n) m: signed distance of x_t to the face's plane at t
   torch::Tensor in_contact;  // (n) bool: distance < contact radius (friction applies)
+  double degenerate_area = 0;  // m^2: faces below it kept unnormalised normals (the query's)
 };
 
 // x: (n, 3) m garment positions at t. body: vertices at t and t + dt, faces (outward).
@@ -29,10 +30,11 @@ BodyContact query_body_contact(const torch::Tensor& x, const BodyFrame& body,
 
 // `contact` (query_body_contact's, of x over all of body's faces) measured again against the
 // faces `rows` of the body alone: each vertex's nearest of them by centroid at t, its centroid,
-// normal and motion at t + dt. Whether a vertex is in contact (in_contact, for friction) stays
-// `contact`'s. Throws pb4u::Error when rows is empty or out of range.
+// normal and motion at t + dt, with `contact`'s degenerate area. Whether a vertex is in contact
+// (in_contact, for friction) stays `contact`'s. Throws pb4u::Error when rows is empty or out of
+// range.
 BodyContact contact_on_faces(const BodyContact& contact, const torch::Tensor& x, const BodyFrame& body,
-                             const std::vector<int64_t>& rows, double degenerate_area);
+                             const std::vector<int64_t>& rows);
 
 // The step's contact when the scene's effects need a body, std::nullopt otherwise (no
 // KD-tree is built then). Throws pb4u::Error when they need one and state.body is undefined.
