@@ -1,9 +1,11 @@
 #!/usr/bin/env bash
 # The hard-case suite (tests/hard, ctest label `hard`) outside ctest.
 # Usage:
-#   scripts/hard_cases.sh [SCALE=4] [gtest filter]   meshes SCALE times finer and rollouts SCALE
-#                                                     times longer than in CI (4000 frames for the
-#                                                     long rollout at 4)
+#   scripts/hard_cases.sh [SCALE=4] [gtest filter]   rollouts SCALE times longer than in CI (4000
+#                                                     frames for the long rollout at 4) and
+#                                                     lattices SCALE times the vertices a side (finer
+#                                                     where a case divides the edge); the body cases
+#                                                     keep the tiny dataset's level-1 garments
 #   scripts/hard_cases.sh --known-gaps [SCALE=1]      the cases that miss their bounds today (the
 #                                                     reference solver or the refined network;
 #                                                     tests/hard/known_gaps.txt; ctest leaves them
