@@ -2,7 +2,8 @@
 # The hard-case suite (tests/hard, ctest label `hard`) outside ctest.
 # Usage:
 #   scripts/hard_cases.sh [SCALE=4] [gtest filter]   rollouts SCALE times longer than in CI (4000
-#                                                     frames for the long rollout at 4) and
+#                                                     frames for the long rollout at 4; the box keeps
+#                                                     its 6, the held-out skirt its motion's 10) and
 #                                                     lattices SCALE times the vertices a side (finer
 #                                                     where a case divides the edge); the body cases
 #                                                     keep the tiny dataset's level-1 garments

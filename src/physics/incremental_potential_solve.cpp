@@ -11,6 +11,7 @@
 
 #include "pb4u/mesh/edges.h"
 #include "pb4u/physics/barrier_objective.h"
+#include "pb4u/physics/barrier_potential.h"
 #include "pb4u/physics/barrier_start.h"
 #include "pb4u/physics/area_barrier.h"
 #include "pb4u/physics/bending_energy.h"
@@ -26,12 +27,10 @@
 namespace pb4u {
 namespace reference_solve {
 
-// The rows `free` of an n x 3 matrix, flat (3 x free rows): the solver's coordinates.
 torch::Tensor free_coordinates(const Eigen::MatrixXd& rows, const torch::Tensor& free, const torch::TensorOptions& opts) {
   return matrix_to_tensor(rows, opts.dtype().toScalarType(), opts.device()).index_select(0, free).reshape({-1});
 }
 
-// L-BFGS two-loop recursion: approximately H^-1 g, starting from H0^-1.
 torch::Tensor lbfgs_direction(const torch::Tensor& g, const std::deque<Pair>& history,
                               const InverseHessian& initial) {
   torch::Tensor r = g.clone();

@@ -55,7 +55,8 @@ TEST(SettledStart, TheSpinsTShirtStartsFreeOfTheBodyWhereSkinningCutsIt) {
 // The hard cases' jump at speed 2: the mannequin moves 134 mm on average in its first frame, and
 // from the settled start the cloth lies within a millimetre of it. Moves of 5 cm cut by CCD to
 // slivers once stalled the body 246 mm short of its pose with 61 vertices caught; a move cut
-// below half is now tried again smaller (reference_solver.cpp, kShrinkBelow).
+// below half is now tried again smaller (incremental_potential_solve.h, kShrinkBelow; the moves:
+// kinematic_body_moves.cpp).
 TEST(SettledStart, TheJumpsBodyReachesItsFirstPoseWithNothingCaught) {
   configure_threads(1);
   SceneConfig scene = tiny_scene("tshirt", "jump", 2.0, 1.3);

@@ -2,8 +2,9 @@
 // The energy the intersection-free solver minimises (solver.contact = barrier), as pieces any
 // caller can add up: the active terms but the penalty collision, the barrier over the pairs of
 // the vertices in barrier contact, and the penalty collision (SPEC 3.3) on the vertices left out
-// of it (no free place at the start, or caught by the body). The solver (reference_solver.cpp)
-// and the residual of a barrier-contact rollout (step_residual.h) measure the same objective.
+// of it (no free place at the start, or caught by the body). The solver
+// (IncrementalPotentialSolve::evaluate, incremental_potential_solve.cpp) and the residual of a
+// barrier-contact rollout (step_residual.h) measure the same objective.
 #include <torch/torch.h>
 
 #include <vector>
