@@ -20,8 +20,8 @@ struct BodyContact {
   torch::Tensor motion;      // (n, 3) m: displacement of the centroid from t to t + dt
   torch::Tensor distance;    // (n) m: signed distance of x_t to the face's plane at t
   torch::Tensor in_contact;  // (n) bool: distance < contact radius (friction applies)
-  // m^2: faces below it keep unnormalised normals; the query's (PhysicsConfig's default unset).
-  double degenerate_area = 1e-14;
+  // m^2: faces below it keep unnormalised normals; the query's (the default where built by hand).
+  double degenerate_area = kDefaultDegenerateArea;
 };
 
 // x: (n, 3) m garment positions at t. body: vertices at t and t + dt, faces (outward).

@@ -231,6 +231,9 @@ struct ReferenceSolverConfig {
   }
 };
 
+// m^2: PhysicsConfig::degenerate_area's default (and BodyContact's where none was given).
+constexpr double kDefaultDegenerateArea = 1e-14;
+
 struct PhysicsConfig {
   CollisionConfig collision;
   FrictionConfig friction;
@@ -238,7 +241,7 @@ struct PhysicsConfig {
   ReferenceSolverConfig solver;
   // m^2: a face whose doubled area is below this counts as degenerate; its normal is not
   // normalised and hinges touching it bend by 0 (keeps sqrt / atan2 gradients finite).
-  double degenerate_area = 1e-14;
+  double degenerate_area = kDefaultDegenerateArea;
 
   template <class V>
   void visit(V& v) {
