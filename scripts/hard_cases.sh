@@ -16,6 +16,8 @@
 #                                                     refinement takes Newton steps by default)
 #   scripts/hard_cases.sh --solver KEY=VALUE[,...] ... physics.solver keys for the reference and
 #                                                     the refinement, e.g. given_start=fewer_left_out
+#                                                     (release_held_cloth is the reference's alone:
+#                                                     the refinement keeps its own, off)
 #   scripts/hard_cases.sh --start settled ...         the body cases' first frame reached by the
 #                                                     solver from the bind pose (scene key
 #                                                     body.start; default: skinned)

@@ -22,8 +22,9 @@
 #                 reaches from the bind pose (docs/evaluation.md)
 # The full run rolls the solver out for 300 frames per sequence: hours on a CPU. The solver does
 # not depend on the networks, so its run is kept in DIR/<case>.reference.json beside the
-# settings it ran with (config, overrides, dataset file, pb4u's version) and reused while they
-# match; the networks' run goes to DIR/<case>.networks.json; the report is built from both.
+# settings it ran with (config, overrides, dataset file, the pb4u binary's checksum) and reused
+# while they match (a build whose solver or its defaults changed gets a fresh run); the
+# networks' run goes to DIR/<case>.networks.json; the report is built from both.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 out=runs/stability quick=0 reduced=0 fresh=0 networks_only=0 cases="body pinned" split="" dataset="" threads=1 models=() extra=()
@@ -73,7 +74,7 @@ for case in $cases; do
   config=configs/eval/heldout.yaml
   [ $case = pinned ] && config=configs/eval/heldout_pinned.yaml
   # The solver's run, reused while the config, the overrides, the dataset file (size and time)
-  # and the binary's version match.
+  # and the binary (its checksum: a version number does not change with a solver's default) match.
   if [ $networks_only = 1 ]; then
     echo "stability_report.sh: $case ($config): ${#models[@]} network(s), no solver" >&2
     run_evaluate "$case" "$out/$case.networks.json" "${checkpoints[@]}" --config "$config" "${sets[@]}"
@@ -82,7 +83,7 @@ for case in $cases; do
   fi
   reference=$out/$case.reference.json
   data=${dataset:-$(sed -n 's/^dataset: *//p' "$config" | head -1)}
-  settings="$config $(sha256sum "$config" | cut -c1-16) ${sets[*]} $data $(stat -c '%s %Y' "$data" 2>/dev/null) $("$pb4u" --version 2>&1 | tail -1)"
+  settings="$config $(sha256sum "$config" | cut -c1-16) ${sets[*]} $data $(stat -c '%s %Y' "$data" 2>/dev/null) $("$pb4u" --version 2>&1 | tail -1) $(sha256sum "$(command -v "$pb4u")" | cut -c1-16)"
   if [ $fresh = 0 ] && [ -f "$reference" ] && [ "$(cat "$reference.settings" 2>/dev/null)" = "$settings" ]; then
     echo "stability_report.sh: $case: reusing the solver's run $reference" >&2
   else

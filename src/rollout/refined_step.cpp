@@ -56,6 +56,7 @@ RefiningSolvers refining_solvers(const ReferenceSolverConfig& solver, const Refi
   RefiningSolvers s;
   ReferenceSolverConfig base = solver;
   base.step = refine.step;
+  base.release_held_cloth = refine.release_held_cloth;
   // A count of 0 without a tolerance still makes the step feasible (intersection-free start).
   // fewer_left_out_to_tolerance: a fixed count starts from the step where it stands (the solver
   // reads the rule as at_step); the solve to the tolerance may start swept. A swept start leaves

@@ -1160,6 +1160,7 @@ TEST(IntersectionFreeSolver, ClothTheBodyIsPlacedOnIsPushedOutOfItWhereThereIsRo
     PhysicsConfig config = barrier_config();
     config.solver.push_out_caught = push;
     config.solver.max_iterations = 10;
+    config.solver.release_held_cloth = false;  // the body gets its 24 moves, then is placed
     // Without the penalty term, which measures the cloth against the body at its pose and would
     // move the patch out of the sphere's way before it arrives.
     config.solver.barrier_keeps_penalty = false;
@@ -1174,6 +1175,36 @@ TEST(IntersectionFreeSolver, ClothTheBodyIsPlacedOnIsPushedOutOfItWhereThereIsRo
       EXPECT_EQ(f.edges_through, 0);
     } else {
       EXPECT_EQ(r.caught_by_body, patch.V.rows());
+    }
+  }
+}
+
+TEST(RefinedStep, ReadsItsOwnReleaseOfTheClothThatHoldsTheBodyBack) {
+  // The sphere moves 2 m onto the patch. The solver releases the cloth that holds it back by
+  // default (physics.solver.release_held_cloth) and reaches its pose; a refinement reads its
+  // own switch, off by default: swept from the patch where it stands, its body gets 24 moves
+  // and is placed at its pose, short of where the moves got it.
+  SphereMovingOntoAPatch scene;
+  PhysicsConfig config = barrier_config();
+  ASSERT_TRUE(config.solver.release_held_cloth);
+  config.solver.barrier_keeps_penalty = false;
+  config.solver.given_start = "swept";
+  const TermList terms = build_terms(scene.state.effects, config);
+  const std::optional<BodyContact> contact = body_contact_for(scene.state, config);
+  for (const bool release : {false, true}) {
+    SCOPED_TRACE(release ? "released" : "not released");
+    RefineConfig refine;
+    EXPECT_FALSE(refine.release_held_cloth);
+    refine.iterations = 10;
+    refine.release_held_cloth = release;
+    ContactStepLog log;
+    const torch::Tensor x = refine_step(scene.state.x, scene.state, scene.cloth, terms, contact ? &*contact : nullptr,
+                                        config.solver, refine, &log);
+    ASSERT_TRUE(torch::isfinite(x).all().item<bool>());
+    if (release) {
+      EXPECT_EQ(log.body_lag, 0);
+    } else {
+      EXPECT_GT(log.body_lag, 0.5);  // placed, not reached
     }
   }
 }

@@ -56,13 +56,16 @@ TEST(SettledStart, TheSpinsTShirtStartsFreeOfTheBodyWhereSkinningCutsIt) {
 // from the settled start the cloth lies within a millimetre of it. Moves of 5 cm cut by CCD to
 // slivers once stalled the body 246 mm short of its pose with 61 vertices caught; a move cut
 // below half is now tried again smaller (incremental_potential_solve.h, kShrinkBelow; the moves:
-// kinematic_body_moves.cpp).
+// kinematic_body_moves.cpp). Checked with solver.release_held_cloth off: with it on (the
+// default) the body also reaches its pose with nothing caught, but 14 vertices it released stay
+// out of barrier contact, one of them inside, 27 cloth edges through the body (2026-11-29).
 TEST(SettledStart, TheJumpsBodyReachesItsFirstPoseWithNothingCaught) {
   configure_threads(1);
   SceneConfig scene = tiny_scene("tshirt", "jump", 2.0, 1.3);
   scene.frames = 1;
   scene.body.start = "settled";
   scene.physics.solver.body_carry = "ride";
+  scene.physics.solver.release_held_cloth = false;
   const SceneSetup s = build_scene(scene, "jump");
   auto log = std::make_shared<ContactStepLog>();
   const RolloutResult r = run_rollout(scene_rollout_input(scene, s), reference_stepper(scene.physics.solver, log),

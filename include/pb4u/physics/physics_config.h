@@ -157,15 +157,17 @@ struct ReferenceSolverConfig {
   bool push_out_caught = false;
   // Cloth that holds a body move back (CCD allows the move less than a tenth of what it tries:
   // pinched between two body parts, a cloth edge dragged against a body edge, a pin in the
-  // body's path): true = it leaves barrier contact and the body moves on, allowed as many moves
-  // as its motion needs at 5 cm each and 24 more; once the body is at its pose that cloth is
-  // pushed out of it as a start is, and what that frees rejoins barrier contact. false (the
-  // default) = the body gets 24 moves and is then placed at its pose. On the hard cases' spin it
-  // leaves nothing inside (was 1.74%, 6 mm) and on the held-out skirt's run the body reaches its
-  // pose on every frame (was placed up to 167 mm short, 463 vertices caught); on the demo walk,
-  // where the hand enters the hip, the cloth it keeps in contact snags there: 0.044 J a frame
-  // instead of 0.0098 (docs/physics.md, "Releasing the cloth that holds the body back").
-  bool release_held_cloth = false;
+  // body's path): true (the default) = it leaves barrier contact and the body moves on, allowed
+  // as many moves as its motion needs at 5 cm each and 24 more; once the body is at its pose
+  // that cloth is pushed out of it as a start is, and what that frees rejoins barrier contact.
+  // false = the body gets 24 moves and is then placed at its pose, the cloth it holds caught
+  // inside. Measured on 2026-11-29: on the held-out run and jump the body held back stopped the
+  // solver (frames 60 and 27) where this runs them; on the demo walk 0.0105 J a frame with
+  // 0.28% of the cloth inside on average against 0.0107 J, 0.43%. A refinement reads its own
+  // switch, off by default (rollout/refined_step.h: on the demo walk the refined file read
+  // 1.25x the reference with it, 1.02x without). docs/physics.md, "Releasing the cloth that
+  // holds the body back".
+  bool release_held_cloth = true;
   // How a body move carries the cloth it touches (carried_by_body.h): "push" (the default) =
   // each pair the body approaches (to first order) moves its cloth with the body's closest point;
   // "ride" = cloth nearer than d_hat / 2 also rides where the body slides or turns under it, each
