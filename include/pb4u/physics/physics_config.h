@@ -161,12 +161,9 @@ struct ReferenceSolverConfig {
   // as many moves as its motion needs at 5 cm each and 24 more; once the body is at its pose
   // that cloth is pushed out of it as a start is, and what that frees rejoins barrier contact.
   // false = the body gets 24 moves and is then placed at its pose, the cloth it holds caught
-  // inside. Measured on 2026-11-29: on the held-out run and jump the body held back stopped the
-  // solver (frames 60 and 27) where this runs them; on the demo walk 0.0105 J a frame with
-  // 0.28% of the cloth inside on average against 0.0107 J, 0.43%. A refinement reads its own
-  // switch, off by default (rollout/refined_step.h: on the demo walk the refined file read
-  // 1.25x the reference with it, 1.02x without). docs/physics.md, "Releasing the cloth that
-  // holds the body back".
+  // inside; on the held-out run and jump that stopped the solver (frames 60 and 27). A
+  // refinement reads its own switch, off by default (RefineConfig, rollout/refined_step.h).
+  // docs/physics.md, "Releasing the cloth that holds the body back", has the figures.
   bool release_held_cloth = true;
   // How a body move carries the cloth it touches (carried_by_body.h): "push" (the default) =
   // each pair the body approaches (to first order) moves its cloth with the body's closest point;

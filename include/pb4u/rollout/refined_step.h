@@ -30,7 +30,7 @@ struct RefineConfig {
   std::string step = "newton";
   // The refinement's physics.solver.release_held_cloth (the solver's own is on by default):
   // off, the body the network's step holds back gets its 24 moves and is placed at its pose.
-  // On the demo walk the refined file read 1.25x the reference with it on, 1.02x off
+  // On the demo walk the refined file read 1.25x the reference with it on, 1.03x off
   // (docs/physics.md, "Releasing the cloth that holds the body back").
   bool release_held_cloth = false;
   bool enabled() const { return iterations > 0 || tolerance_mm > 0; }
