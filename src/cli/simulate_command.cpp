@@ -87,8 +87,9 @@ void add_simulate_command(CLI::App& app, const GlobalOptions& global) {
     if (r.barrier_contact)
       inside += fmt::format("; {} frames left cloth out of barrier contact (at most {} vertices)", r.excluded_frames,
                             r.excluded_max);
-    const std::string residual = r.residual_measured ? fmt::format("residual mean {:.3g} mm, max {:.3g} mm",
-                                                                   r.residual_mm_mean, r.residual_mm_max)
+    const std::string residual = r.residual_measured ? fmt::format("residual median {:.3g} mm, mean {:.3g} mm, max {:.3g} mm",
+                                                                   r.residual_mm_median, r.residual_mm_mean,
+                                                                   r.residual_mm_max)
                                                      : std::string("residual not measured (outputs.residual off)");
     spdlog::info("{} frames: positive energy mean {:.4g} J, max {:.4g} J{}; {}; {:.1f} ms per frame ({}); {} files in {}",
                  r.frames - 1, r.positive_mean, r.positive_max, inside, residual, r.step_ms_mean,

@@ -239,6 +239,7 @@ SequenceResult sequence_result(const Sequence& s, const RolloutResult& r) {
   q.mean = mean_report(r.reports);
   q.positive_energy = positive_energy(*q.mean);
   q.max_positive_energy = positive_energy_range(r.reports).max;
+  q.median_residual_mm = median_residual_mm(r.reports);
   if (!r.penetration.empty()) q.penetration = summarize_penetration(r.penetration);
   return q;
 }
@@ -308,6 +309,7 @@ std::vector<LevelResult> evaluate(const EvalConfig& config, const std::vector<Ev
       if (!method.model && !method.solver_contact.empty()) physics.solver.contact = method.solver_contact;
       auto t0 = std::chrono::steady_clock::now();
       std::vector<double> step_ms;  // every frame's contact query + step
+      std::vector<double> residual_mm;  // every frame's residual where measured
       for (size_t si = 0; si < sequences.size(); ++si) {
         const Sequence& s = sequences[si];
         const Garment& garment = *s.garment;
@@ -350,6 +352,8 @@ std::vector<LevelResult> evaluate(const EvalConfig& config, const std::vector<Ev
         RolloutResult r = run_rollout(in, step, measured, on_frame);
         for (size_t f = 0; f < r.step_ms.size() && f < r.contact_ms.size(); ++f)
           step_ms.push_back(r.step_ms[f] + r.contact_ms[f]);
+        for (const EnergyReport& report : r.reports)
+          if (std::isfinite(report.residual_mm)) residual_mm.push_back(report.residual_mm);
         bar.step(std::max<int64_t>(in.steps - frames_done, 0), status);  // a rollout the guard stopped
         SequenceResult q = sequence_result(s, r);
         if (!config.frames_dir.empty())
@@ -384,6 +388,7 @@ std::vector<LevelResult> evaluate(const EvalConfig& config, const std::vector<Ev
       }
       mr.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       mr.step_ms = median(step_ms);
+      mr.median_residual_mm = median(residual_mm);
       if (!sequence_means.empty()) mr.mean = mean_report(sequence_means);
       if (!sequence_penetration.empty()) mr.penetration = summarize_penetration(sequence_penetration);
       if (lr.K == 0 && method.model && method.model->config.is_pb4u()) lr.K = mr.K;
@@ -523,6 +528,7 @@ EvalJson eval_json_sequence(const SequenceResult& q, const std::vector<std::stri
   eval_add_rows(out, rows, q.mean, q.penetration);
   out["positive_energy"] = eval_json_figure(q.positive_energy);
   out["max_positive_energy"] = eval_json_figure(q.max_positive_energy);
+  out["median_residual_mm"] = eval_json_figure(q.median_residual_mm);
   eval_add_divergence(out, q.diverged, q.diverged_at_frame, q.diverged_reason);
   return out;
 }
@@ -544,6 +550,7 @@ std::string format_json(const std::vector<LevelResult>& levels) {
       method["K"] = m.K;
       method["frames"] = m.frames;
       method["step_ms"] = eval_json_figure(m.step_ms);
+      method["median_residual_mm"] = eval_json_figure(m.median_residual_mm);
       eval_add_divergence(method, m.diverged, m.diverged_at_frame, m.diverged_reason);
       methods[m.name] = std::move(method);
     }

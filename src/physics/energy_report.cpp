@@ -1,8 +1,10 @@
 #include "pb4u/physics/energy_report.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "pb4u/util/error.h"
+#include "pb4u/util/median.h"
 
 namespace pb4u {
 
@@ -90,6 +92,13 @@ PositiveEnergyRange positive_energy_range(const std::vector<EnergyReport>& repor
     range.max = std::max(range.max, p);
   }
   return range;
+}
+
+double median_residual_mm(const std::vector<EnergyReport>& reports) {
+  std::vector<double> measured;
+  for (const auto& report : reports)
+    if (std::isfinite(report.residual_mm)) measured.push_back(report.residual_mm);
+  return median(std::move(measured));
 }
 
 }  // namespace pb4u

@@ -158,6 +158,7 @@ SimulateResult simulate(const SceneConfig& scene, const std::string& scene_path,
   for (double ms : r.step_ms) result.step_ms_mean += ms / r.step_ms.size();
   result.residual_measured = in.measure_residual;
   result.own_start_frames = r.own_start_frames;
+  result.residual_mm_median = median_residual_mm(r.reports);
   for (const EnergyReport& report : r.reports) {
     result.residual_mm_mean += report.residual_mm / r.reports.size();
     result.residual_mm_max = std::max(result.residual_mm_max, report.residual_mm);

@@ -25,6 +25,7 @@
 #include "pb4u/train/trainer.h"
 #include "pb4u/train/training_data.h"
 #include "pb4u/util/error.h"
+#include "pb4u/util/median.h"
 #include "pb4u/util/runtime.h"
 #include "eval/eval_test_util.h"
 #include "test_util.h"
@@ -255,6 +256,7 @@ TEST(Evaluate, FramesDirHoldsEveryFrameOfEveryRollout) {
   ASSERT_EQ(methods.size(), 1u);
   const std::string method = methods.begin().key();
   int files = 0;
+  std::vector<double> all_residuals;  // every sequence's frames: the method's median
   for (const auto& q : methods.begin().value().at("sequences")) {
     const std::string path = dir + "/lv1/" + file_name_from(method) + "/" +
                              file_name_from(q.at("garment").get<std::string>() + "_" + q.at("motion").get<std::string>() +
@@ -269,10 +271,13 @@ TEST(Evaluate, FramesDirHoldsEveryFrameOfEveryRollout) {
       EXPECT_LT(c, head.size()) << name;
       return c;
     };
-    const size_t positive = column("positive"), stretch = column("stretch"), inside = column("penetrating_fraction");
+    const size_t positive = column("positive"), stretch = column("stretch"), inside = column("penetrating_fraction"),
+                 residual = column("residual_mm");
     double sum_positive = 0, sum_stretch = 0, largest = 0;
+    std::vector<double> residuals;
     for (size_t f = 1; f < rows.size(); ++f) {
       EXPECT_EQ(rows[f][0], std::to_string(f));
+      residuals.push_back(std::stod(rows[f][residual]));
       sum_positive += std::stod(rows[f][positive]);
       sum_stretch += std::stod(rows[f][stretch]);
       largest = std::max(largest, std::stod(rows[f][positive]));
@@ -284,10 +289,16 @@ TEST(Evaluate, FramesDirHoldsEveryFrameOfEveryRollout) {
     EXPECT_NEAR(sum_positive / n, mean, 1e-8 * std::abs(mean) + 1e-15) << path;
     EXPECT_NEAR(sum_stretch / n, q.at("stretch").get<double>(), 1e-8 * std::abs(mean) + 1e-15) << path;
     EXPECT_NEAR(largest, q.at("max_positive_energy").get<double>(), 1e-8 * largest) << path;
+    // The residual's median over the frames (the mean is a row like the terms).
+    const double median_residual = median(residuals);
+    EXPECT_NEAR(median_residual, q.at("median_residual_mm").get<double>(), 1e-8 * median_residual) << path;
+    all_residuals.insert(all_residuals.end(), residuals.begin(), residuals.end());
     // The network's own step: no solve, no contact account.
     EXPECT_EQ(std::find(head.begin(), head.end(), "contact_excluded"), head.end());
   }
   EXPECT_GT(files, 0);
+  const double median_residual = median(all_residuals);
+  EXPECT_NEAR(median_residual, methods.begin().value().at("median_residual_mm").get<double>(), 1e-8 * median_residual);
   // Refined with barrier contact (the solver's default), each frame also has the solve's account.
   r = test::run_pb4u("-q evaluate --checkpoint " + tiny_checkpoint() + " --config " + kSource +
                      "/configs/eval/tiny.yaml --set dataset=" + test::tiny_dataset() +
@@ -490,6 +501,12 @@ TEST(Simulate, RefineRunsTheSolverFromTheNetworksStepAndNeedsTheNetwork) {
   const size_t residual = std::find(net[0].begin(), net[0].end(), "residual_mm") - net[0].begin();
   ASSERT_LT(residual, net[0].size());
   EXPECT_LT(std::stod(refined[2][residual]), 0.1 * std::stod(net[2][residual]));
+  // The summary line's residual median is energies.csv's, to the 3 digits it prints.
+  std::vector<double> refined_residuals;
+  for (size_t f = 2; f < refined.size(); ++f) refined_residuals.push_back(std::stod(refined[f][residual]));
+  const size_t at = r.err.find("residual median ");
+  ASSERT_NE(at, std::string::npos) << r.err;
+  EXPECT_NEAR(std::stod(r.err.substr(at + 16)), median(refined_residuals), 5e-3 * median(refined_residuals)) << r.err;
   // The same refinement as a switch of the model file.
   ASSERT_EQ(test::run_pb4u("-q export --checkpoint " + tiny_checkpoint() + " --set refine_iterations=20 --out " +
                            out + "/refined.h5")

@@ -5,6 +5,7 @@
 // term is averaged over the measured frames and then over sequences. With a body, the
 // garment's penetration is measured too (physics/penetration.h). Without one (e.g. effects
 // [gravity, pins]) each garment hangs from rest, pinned by rule, for max_frames frames.
+#include <cmath>
 #include <optional>
 #include <string>
 #include <vector>
@@ -101,6 +102,10 @@ struct SequenceResult {
   std::optional<EnergyReport> mean;   // over those frames; absent when none
   double positive_energy = 0;         // J: mean per frame of stretch + bending + collision
   double max_positive_energy = 0;     // J: its largest frame
+  // mm: the median over its frames of the step's residual (EnergyReport::residual_mm), NaN where
+  // not measured. A solve can end far from its minimum on a rare frame (a 1e7 mm residual), and
+  // such a frame sets the mean alone; the median reads the typical frame.
+  double median_residual_mm = NAN;
   std::optional<PenetrationSummary> penetration;  // with a body (and a measured frame)
   bool diverged = false;
   int diverged_at_frame = -1;
@@ -124,6 +129,9 @@ struct MethodResult {
   // (a network's with its passes and refinement, or the solver's), as bench's latency; NaN
   // without a frame.
   double step_ms = 0;
+  // mm: the median over every frame of every sequence of the step's residual (NaN where none was
+  // measured); beside the mean, which a rare frame far from the minimum can set alone.
+  double median_residual_mm = NAN;
 };
 
 struct LevelResult {

@@ -26,7 +26,9 @@ struct SimulateResult {
   // Frames where the body crosses itself, and most of its faces inside another part on one.
   int body_self_crossing_frames = 0, body_self_crossing_max = 0;
   double step_ms_mean = 0;
-  double residual_mm_mean = 0, residual_mm_max = 0;  // EnergyReport::residual_mm over the frames
+  // EnergyReport::residual_mm over the frames: the median reads the typical frame, the mean and
+  // the largest what a rare frame far from its minimum adds.
+  double residual_mm_median = 0, residual_mm_mean = 0, residual_mm_max = 0;
   bool residual_measured = true;                      // false with outputs.residual off
   int own_start_frames = 0;  // refined frames started from the solver's own start (RolloutResult)
   // The intersection-free reference solver (solver.contact = barrier, with a body): frames that
