@@ -352,8 +352,8 @@ std::vector<LevelResult> evaluate(const EvalConfig& config, const std::vector<Ev
         RolloutResult r = run_rollout(in, step, measured, on_frame);
         for (size_t f = 0; f < r.step_ms.size() && f < r.contact_ms.size(); ++f)
           step_ms.push_back(r.step_ms[f] + r.contact_ms[f]);
-        for (const EnergyReport& report : r.reports)
-          if (std::isfinite(report.residual_mm)) residual_mm.push_back(report.residual_mm);
+        const std::vector<double> measured_mm = measured_residuals_mm(r.reports);
+        residual_mm.insert(residual_mm.end(), measured_mm.begin(), measured_mm.end());
         bar.step(std::max<int64_t>(in.steps - frames_done, 0), status);  // a rollout the guard stopped
         SequenceResult q = sequence_result(s, r);
         if (!config.frames_dir.empty())

@@ -94,11 +94,13 @@ PositiveEnergyRange positive_energy_range(const std::vector<EnergyReport>& repor
   return range;
 }
 
-double median_residual_mm(const std::vector<EnergyReport>& reports) {
+std::vector<double> measured_residuals_mm(const std::vector<EnergyReport>& reports) {
   std::vector<double> measured;
   for (const auto& report : reports)
     if (std::isfinite(report.residual_mm)) measured.push_back(report.residual_mm);
-  return median(std::move(measured));
+  return measured;
 }
+
+double median_residual_mm(const std::vector<EnergyReport>& reports) { return median(measured_residuals_mm(reports)); }
 
 }  // namespace pb4u

@@ -53,8 +53,9 @@ struct PositiveEnergyRange {
   double mean = 0, max = 0;
 };
 PositiveEnergyRange positive_energy_range(const std::vector<EnergyReport>& reports);
-// mm: the median over the frames of the step's residual (EnergyReport::residual_mm), the frames
-// where it was measured; NaN where none was.
+// mm: the step's residual (EnergyReport::residual_mm) of the frames where it was measured, and
+// their median (NaN where none was).
+std::vector<double> measured_residuals_mm(const std::vector<EnergyReport>& reports);
 double median_residual_mm(const std::vector<EnergyReport>& reports);
 // Whether the term called `name` counts towards the positive energy.
 bool is_positive_term(const std::string& name);
