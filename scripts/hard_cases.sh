@@ -18,6 +18,9 @@
 #                                                     the refinement, e.g. given_start=fewer_left_out
 #                                                     (release_held_cloth is the reference's alone:
 #                                                     the refinement keeps its own, off)
+#   scripts/hard_cases.sh --refine KEY=VALUE[,...] ... the refinement's keys (refine.*), e.g.
+#                                                     release_held_cloth=true; each run keeps its
+#                                                     count and tolerance
 #   scripts/hard_cases.sh --start settled ...         the body cases' first frame reached by the
 #                                                     solver from the bind pose (scene key
 #                                                     body.start; default: skinned)
@@ -36,6 +39,9 @@ while [ $# -gt 0 ]; do
     --solver)
       [ -n "${2:-}" ] || { echo "hard_cases.sh: --solver needs KEY=VALUE[,KEY=VALUE...]" >&2; exit 2; }
       export PB4U_HARD_SOLVER=$2 ;;
+    --refine)
+      [ -n "${2:-}" ] || { echo "hard_cases.sh: --refine needs KEY=VALUE[,KEY=VALUE...]" >&2; exit 2; }
+      export PB4U_HARD_REFINE=$2 ;;
     --start)
       case "${2:-}" in
         skinned|settled) export PB4U_HARD_START=$2 ;;

@@ -81,8 +81,8 @@ void add_simulate_command(CLI::App& app, const GlobalOptions& global) {
       inside += fmt::format("; the body crosses itself on {} frames (at most {} of its faces inside another part)",
                             r.body_self_crossing_frames, r.body_self_crossing_max);
     if (r.own_start_frames > 0)
-      inside += fmt::format("; on {} frames the network's step was higher in the solver's objective than the "
-                            "solver's own start, and the refinement started from that",
+      inside += fmt::format("; on {} frames the refinement started from the solver's own start instead of the "
+                            "network's step (higher in the solver's objective, or leaving cloth with no free place)",
                             r.own_start_frames);
     if (r.barrier_contact)
       inside += fmt::format("; {} frames left cloth out of barrier contact (at most {} vertices)", r.excluded_frames,

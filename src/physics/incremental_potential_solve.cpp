@@ -124,6 +124,7 @@ void IncrementalPotentialSolve::place_ballistic_start(const torch::Tensor* x_sta
   if (x_start) {  // a given step (the network's) instead of the ballistic prediction; pins as held
     if (x_start->sizes() != state.x.sizes()) throw Error("reference solver: the start step is not (n, 3)");
     if (!barrier) x_own = x_base;
+    if (barrier && config.own_start_where_left_out) x_ballistic = x_base.detach();
     x_base = torch::where(pinned.unsqueeze(1), x_base, x_start->to(opts));
   }
   x_base = x_base.detach();
@@ -141,7 +142,7 @@ void IncrementalPotentialSolve::shorten_start_edges() {
   strain_edges = barrier ? barrier->cloth_edges : unique_edges(index_tensor_to_matrix(cloth.faces));
   rest_length = tensor_to_matrix(cloth.edge_rest_length.to(torch::kCPU, torch::kFloat64).reshape({-1, 1})).col(0);
   const double inside = std::max(0.0, config.strain_limit - 0.5 * config.strain_barrier_gap);
-  for (torch::Tensor* x : {&x_base, &x_own, &x_standing})
+  for (torch::Tensor* x : {&x_base, &x_own, &x_standing, &x_ballistic})
     if (x->defined())
       *x = matrix_to_tensor(shorten_overstretched_edges(tensor_to_matrix(*x), strain_edges, rest_length, inside, pinned_flags),
                             opts.dtype().toScalarType(), state.x.device());
@@ -178,6 +179,15 @@ void IncrementalPotentialSolve::make_barrier_start(const torch::Tensor* x_start)
   // decides where that cloth goes.
   if (x_start && barrier->given_start == GivenStart::swept_if_left_out && start.excluded_count > 0)
     start = make_start(false);
+  // own_start_where_left_out: cloth the given step left with no free place goes where the
+  // solver's own motion takes it; the step is dropped for this solve.
+  if (x_start && x_ballistic.defined() && start.excluded_count > 0) {
+    spdlog::debug("barrier start: the given step leaves {} vertices out; the solver's own start instead",
+                  start.excluded_count);
+    start = barrier_start(x_t, tensor_to_matrix(x_ballistic), pinned_flags, false, barrier->cloth_edges, barrier->body_t,
+                          barrier->body_faces, barrier->settings.d_hat);
+    result.own_start = true;
+  }
   spdlog::debug("barrier start chosen after {:.0f} ms", ms_since(start_time));
   result.swept_start = x_start && !start.at_next;
   body_start = start.at_next ? &barrier->body_next : &barrier->body_t;

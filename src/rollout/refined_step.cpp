@@ -29,9 +29,11 @@ torch::Tensor refine_with(const torch::Tensor& x_step, const FrameState& state, 
   const std::optional<BarrierStepInput> barrier = barrier_step_input(state, cloth, config);
   SolverResult r = solve_reference_step(state, cloth, terms, contact, config, barrier ? &*barrier : nullptr, &start);
   // fewer_left_out: where the swept start's body, moving from t, was held up and caught cloth,
-  // the step where it stands is solved too, and the solve that left fewer vertices out is kept.
+  // the step where it stands is solved too, and the solve that left fewer vertices out is kept
+  // (not where the solver's own start replaced the step, which the step where it stands would again).
   using GivenStart = BarrierStepInput::GivenStart;
-  if (barrier && barrier->given_start == GivenStart::fewer_left_out && r.swept_start && r.caught_by_body > 0) {
+  if (barrier && barrier->given_start == GivenStart::fewer_left_out && r.swept_start && !r.own_start &&
+      r.caught_by_body > 0) {
     BarrierStepInput at_step = *barrier;
     at_step.given_start = GivenStart::at_step;
     SolverResult other = solve_reference_step(state, cloth, terms, contact, config, &at_step, &start);
@@ -63,7 +65,12 @@ RefiningSolvers refining_solvers(const ReferenceSolverConfig& solver, const Refi
   // the body its whole motion to make, cloth carried along, which a few iterations do not finish
   // (docs/physics.md, "Where a refinement starts").
   const bool to_tolerance_only = solver.given_start == "fewer_left_out_to_tolerance";
-  if (refine.iterations > 0 || !(refine.tolerance_mm > 0)) s.fixed = refining_solver(base, refine.iterations, 0);
+  // The solver's own start (own_start_where_left_out) is swept too: under this rule only the
+  // solve to the tolerance takes it.
+  if (refine.iterations > 0 || !(refine.tolerance_mm > 0)) {
+    s.fixed = refining_solver(base, refine.iterations, 0);
+    if (to_tolerance_only) s.fixed->own_start_where_left_out = false;
+  }
   if (refine.tolerance_mm > 0) {
     s.to_tolerance = refining_solver(base, 0, refine.tolerance_mm);
     s.tolerance_m = 1e-3 * refine.tolerance_mm;

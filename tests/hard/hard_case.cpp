@@ -229,27 +229,45 @@ std::string body_start() {
   return start;
 }
 
+namespace {
+// `config` with the comma-separated KEY=VALUE list in the environment variable `env`, checked
+// as a config file's keys are; unchanged when `env` is unset.
+template <class Config>
+Config with_overrides_from(const Config& config, const char* env) {
+  const char* sets = std::getenv(env);
+  if (!sets) return config;
+  std::vector<std::string> list;
+  std::stringstream in(sets);
+  for (std::string set; std::getline(in, set, ',');)
+    if (!set.empty()) list.push_back(set);
+  YAML::Node root = YAML::Load(config_to_yaml(config));
+  std::set<std::string> overridden;
+  apply_overrides(root, list, &overridden);
+  Config out;
+  ConfigReader reader(root, env, "", &overridden);
+  out.visit(reader);
+  reader.finish();
+  return out;
+}
+}  // namespace
+
 PhysicsConfig with_solver_overrides(const PhysicsConfig& physics) {
   PhysicsConfig p = physics;
   // scripts/hard_cases.sh --step newton: the reference solver with Newton steps.
   if (const char* step = std::getenv("PB4U_HARD_SOLVER_STEP")) p.solver.step = step;
   // scripts/hard_cases.sh --solver KEY=VALUE,...: physics.solver keys for the reference and the
-  // refinement, checked as a config file's are.
-  if (const char* sets = std::getenv("PB4U_HARD_SOLVER")) {
-    std::vector<std::string> list;
-    std::stringstream in(sets);
-    for (std::string set; std::getline(in, set, ',');)
-      if (!set.empty()) list.push_back(set);
-    YAML::Node root = YAML::Load(config_to_yaml(p.solver));
-    std::set<std::string> overridden;
-    apply_overrides(root, list, &overridden);
-    ReferenceSolverConfig solver;
-    ConfigReader reader(root, "PB4U_HARD_SOLVER", "", &overridden);
-    solver.visit(reader);
-    reader.finish();
-    p.solver = solver;
-  }
+  // refinement.
+  p.solver = with_overrides_from(p.solver, "PB4U_HARD_SOLVER");
   return p;
+}
+
+RefineConfig with_refine_overrides(const RefineConfig& refine) {
+  // scripts/hard_cases.sh --refine KEY=VALUE,...: the refinement's keys (release_held_cloth,
+  // step); each run keeps its own count and tolerance.
+  RefineConfig r = with_overrides_from(refine, "PB4U_HARD_REFINE");
+  r.iterations = refine.iterations;
+  r.tolerance_mm = refine.tolerance_mm;
+  return r;
 }
 
 PhysicsConfig reference_physics(const PhysicsConfig& physics, const RolloutInput& in) {
@@ -293,6 +311,7 @@ ShippedFigures check_shipped(const std::string& label, const RolloutInput& in, c
   report("Pb4U + passes", network_stepper(shipped_model(), topology), bounds, &fig.passes);
   RefineConfig fixed;
   fixed.iterations = kRefineIterations;
+  fixed = with_refine_overrides(fixed);
   report("Pb4U + passes" + refine_label(fixed.iterations, 0), refined_by(fixed), refined_bounds,
          &fig.refined_fixed);
   RefineConfig refine = fixed;

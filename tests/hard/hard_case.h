@@ -9,6 +9,7 @@
 #include "pb4u/graph/garment_topology.h"
 #include "pb4u/model/model_file.h"
 #include "pb4u/model/pass_variants.h"
+#include "pb4u/rollout/refined_step.h"
 #include "pb4u/rollout/rollout.h"
 
 namespace pb4u::hard {
@@ -24,6 +25,8 @@ std::string body_start();
 // `physics` with the physics.solver keys of scripts/hard_cases.sh --step / --solver (environment
 // PB4U_HARD_SOLVER_STEP, PB4U_HARD_SOLVER), checked as a config file's are.
 PhysicsConfig with_solver_overrides(const PhysicsConfig& physics);
+// `refine` with scripts/hard_cases.sh --refine's keys (PB4U_HARD_REFINE) but its count and tolerance.
+RefineConfig with_refine_overrides(const RefineConfig& refine);
 
 // The shipped model (data/pretrained/pb4u.h5), loaded once.
 const ModelFile& shipped_model();

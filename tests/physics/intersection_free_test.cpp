@@ -926,6 +926,65 @@ TEST(RefinedStep, FewerLeftOutToToleranceCountsFromTheStepAndSolvesToTheToleranc
   }
 }
 
+// own_start_where_left_out: the sphere rises 0.2 m through the step left where it was, which
+// made free where it stands leaves vertices out of contact; the solve then starts as the
+// solver's own does (the ballistic prediction swept from t), so it ends where the solver's own
+// step ends, free of the sphere. Where the step leaves nothing out the switch changes nothing.
+TEST(RefinedStep, AStepThatLeavesClothOutStartsAsTheSolversOwnWhereAskedTo) {
+  RisingSphere s;
+  const torch::Tensor left_behind = s.state.x.clone();
+  auto solve = [&](const Eigen::MatrixXd& sphere_next, bool own_where_left_out, const torch::Tensor* x_start) {
+    s.state.body.next_vertices = test::positions_tensor(sphere_next);
+    PhysicsConfig config = barrier_config();
+    config.solver.given_start = "at_step";
+    config.solver.max_iterations = 10;
+    config.solver.own_start_where_left_out = own_where_left_out;
+    const TermList terms = build_terms(s.state.effects, config);
+    const std::optional<BodyContact> contact = body_contact_for(s.state, config);
+    const std::optional<BarrierStepInput> barrier = barrier_step_input(s.state, s.cloth, config.solver);
+    return solve_reference_step(s.state, s.cloth, terms, &*contact, config.solver, &*barrier, x_start);
+  };
+  Eigen::MatrixXd far_up = s.sphere.V;
+  far_up.col(1).array() += 0.2;
+  const SolverResult at_step = solve(far_up, false, &left_behind);
+  ASSERT_GT(at_step.excluded, 0) << "the step cuts the sphere with no free place near";
+  ASSERT_FALSE(at_step.own_start);
+  const SolverResult own = solve(far_up, true, &left_behind);
+  EXPECT_TRUE(own.own_start);
+  EXPECT_EQ(own.excluded, 0);
+  const Freedom f = freedom(tensor_to_matrix(own.x_next), s.edges, far_up, s.sphere.F);
+  EXPECT_GT(f.min_distance, 0);
+  EXPECT_EQ(f.edges_through, 0);
+  const SolverResult solvers_own = solve(far_up, true, nullptr);
+  EXPECT_TRUE(torch::allclose(own.x_next, solvers_own.x_next, 0, 1e-12));
+  // A refinement's fixed count under the default rule starts at the step where it stands (a
+  // swept start leaves the body's whole motion to a few iterations); under at_step it too starts
+  // as the solver's own where the step leaves cloth out.
+  auto refined = [&](const std::string& given_start, ContactStepLog* log) {
+    PhysicsConfig config = barrier_config();
+    config.solver.given_start = given_start;
+    config.solver.own_start_where_left_out = true;
+    const TermList terms = build_terms(s.state.effects, config);
+    const std::optional<BodyContact> contact = body_contact_for(s.state, config);
+    RefineConfig refine;
+    refine.iterations = 2;
+    return refine_step(left_behind, s.state, s.cloth, terms, &*contact, config.solver, refine, log);
+  };
+  ContactStepLog log;
+  refined("fewer_left_out_to_tolerance", &log);
+  EXPECT_FALSE(log.own_start) << "a fixed count under the default rule";
+  EXPECT_GT(log.excluded, 0);
+  refined("at_step", &log);
+  EXPECT_TRUE(log.own_start) << "a fixed count under at_step";
+  EXPECT_EQ(log.excluded, 0);
+  // One frame's rise: the step left where it was is pushed out where it stands, none left out.
+  const SolverResult near_off = solve(s.sphere_at(1), false, &left_behind);
+  ASSERT_EQ(near_off.excluded, 0);
+  const SolverResult near_on = solve(s.sphere_at(1), true, &left_behind);
+  EXPECT_FALSE(near_on.own_start);
+  EXPECT_TRUE(torch::equal(near_on.x_next, near_off.x_next));
+}
+
 // Two spheres (r = 0.1 m) 0.1 m apart close on a 2 cm patch between them and overlap by 0.1 m
 // at t + dt: the body crosses itself where the patch is, the patch inside both spheres there.
 struct SpheresClosingOnPatch {

@@ -137,6 +137,9 @@ class IncrementalPotentialSolve {
   // The cloth where it stands at t, pins at their targets: without barrier contact, a third start
   // where the ballistic prediction is higher (SolverResult::standing_start).
   torch::Tensor x_standing;
+  // The ballistic prediction beside a given step, with barrier contact and
+  // solver.own_start_where_left_out: the start where the given step's start leaves vertices out.
+  torch::Tensor x_ballistic;
   torch::Tensor pinned;  // (n,) bool
   torch::Tensor free;    // the free rows; q holds their coordinates
   int64_t nf = 0;

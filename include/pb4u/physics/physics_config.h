@@ -146,6 +146,15 @@ struct ReferenceSolverConfig {
   // motion to the solve, which a few iterations do not finish (fewer_left_out diverges on the demo
   // walk at one iteration a frame). docs/physics.md, "Where a refinement starts", has the figures.
   std::string given_start = "fewer_left_out_to_tolerance";
+  // Where a given step's start, chosen by given_start, still leaves vertices out of barrier
+  // contact (no free place near: pinched where the body crosses itself, or threaded through a
+  // limb): true = the step is dropped for that solve, which starts as the solver's own does
+  // (the ballistic prediction, swept from the cloth at t; SolverResult::own_start). The cloth
+  // the network left with no free place then goes where the solver's own motion takes it. On
+  // the tank top's CMU walk the refined file stopped at frame 40 without it; with it (and the
+  // refinement's release_held_cloth) it ran the 300 frames free of the body (docs/physics.md,
+  // "Where a refinement starts").
+  bool own_start_where_left_out = false;
   // Where the body, held up by the cloth, is placed at its pose after its moves: true = the
   // cloth it then cuts or holds is first pushed out of it as a start is (intersection_free_start:
   // out of the body, edges through it pushed further), and only what that leaves is caught
@@ -221,6 +230,7 @@ struct ReferenceSolverConfig {
     v("area_barrier_stiffness", area_barrier_stiffness, positive());
     v("given_start", given_start,
       one_of({"at_step", "swept", "fewer_left_out", "swept_if_left_out", "fewer_left_out_to_tolerance"}));
+    v("own_start_where_left_out", own_start_where_left_out);
     v("push_out_caught", push_out_caught);
     v("release_held_cloth", release_held_cloth);
     v("body_carry", body_carry, one_of({"push", "ride"}));

@@ -53,7 +53,9 @@ struct SolverResult {
   bool swept_start = false;  // a given step's start was swept from the cloth at t (GivenStart)
   // Without barrier contact (no body, or the penalty term): a given step starts the solve only
   // where it is lower in the objective than the solver's own start (the ballistic prediction,
-  // pins at their targets); true where the own start was used.
+  // pins at their targets); true where the own start was used. With barrier contact and
+  // solver.own_start_where_left_out: true where the given step's start left vertices out of
+  // contact and the solve started as the solver's own does instead.
   bool own_start = false;
   // Without barrier contact: the solve started from the cloth where it stands at t (pins at
   // their targets), which was lower in the objective than the prediction (or the given step).

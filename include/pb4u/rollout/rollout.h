@@ -90,8 +90,9 @@ struct ContactStepLog {
   double body_lag = 0;
   std::vector<char> excluded_vertices;
   double barrier_stiffness = 0;
-  // A refinement without barrier contact that started from the solver's own start, the
-  // network's step being higher in the solver's objective (SolverResult::own_start).
+  // A refinement that started from the solver's own start: without barrier contact where the
+  // network's step was higher in the solver's objective, with it where the step left cloth with
+  // no free place and solver.own_start_where_left_out is on (SolverResult::own_start).
   bool own_start = false;
 };
 
