@@ -165,27 +165,27 @@ void IncrementalPotentialSolve::make_barrier_start(const torch::Tensor* x_start)
   // given step swept), or from the given step itself against the body at t + dt.
   using GivenStart = BarrierStepInput::GivenStart;
   const Eigen::MatrixXd x_t = tensor_to_matrix(state.x), target = tensor_to_matrix(x_base);
-  auto make_start = [&](bool at_next) {
-    return barrier_start(x_t, target, pinned_flags, at_next, barrier->cloth_edges,
+  // towards: the given step or prediction (target), or the ballistic prediction (own start).
+  auto make_start = [&](bool at_next, const Eigen::MatrixXd& towards) {
+    return barrier_start(x_t, towards, pinned_flags, at_next, barrier->cloth_edges,
                          at_next ? barrier->body_next : barrier->body_t, barrier->body_faces, barrier->settings.d_hat);
   };
-  BarrierStart start = make_start(x_start && barrier->given_start != GivenStart::swept);
+  BarrierStart start = make_start(x_start && barrier->given_start != GivenStart::swept, target);
   if (x_start && barrier->given_start == GivenStart::fewer_left_out && start.excluded_count > 0) {
-    BarrierStart swept = make_start(false);
+    BarrierStart swept = make_start(false, target);
     if (swept.excluded_count < start.excluded_count) start = std::move(swept);
   }
   // Where the step left cloth inside the body with no free place near (pinched where the body
   // crosses itself, or deep in a body that went through it), the body's own motion from t
   // decides where that cloth goes.
   if (x_start && barrier->given_start == GivenStart::swept_if_left_out && start.excluded_count > 0)
-    start = make_start(false);
+    start = make_start(false, target);
   // own_start_where_left_out: cloth the given step left with no free place goes where the
   // solver's own motion takes it; the step is dropped for this solve.
   if (x_start && x_ballistic.defined() && start.excluded_count > 0) {
     spdlog::debug("barrier start: the given step leaves {} vertices out; the solver's own start instead",
                   start.excluded_count);
-    start = barrier_start(x_t, tensor_to_matrix(x_ballistic), pinned_flags, false, barrier->cloth_edges, barrier->body_t,
-                          barrier->body_faces, barrier->settings.d_hat);
+    start = make_start(false, tensor_to_matrix(x_ballistic));
     result.own_start = true;
   }
   spdlog::debug("barrier start chosen after {:.0f} ms", ms_since(start_time));
