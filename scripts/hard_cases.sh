@@ -17,7 +17,7 @@
 #   scripts/hard_cases.sh --solver KEY=VALUE[,...] ... physics.solver keys for the reference and
 #                                                     the refinement, e.g. given_start=fewer_left_out
 #                                                     (release_held_cloth is the reference's alone:
-#                                                     the refinement keeps its own, off)
+#                                                     the refinement keeps its own, on)
 #   scripts/hard_cases.sh --refine KEY=VALUE[,...] ... the refinement's keys (refine.*), e.g.
 #                                                     release_held_cloth=true; each run keeps its
 #                                                     count and tolerance

@@ -54,12 +54,12 @@ BenchRow run_one(const Run& run, const RolloutInput& body_input, const RolloutIn
   row.iterations = run.iterations;
   const bool refined = run.family == "refined" || run.family == "refined_tolerance";
   if (run.model) {
-    step = network_stepper(*run.model, topology, run.k_override, step_log, physics.solver);
+    RefineConfig refine;  // the refinement's keys but the budget, for this row's and the file's own
+    refine.step = config.refine_step;
+    step = network_stepper(*run.model, topology, run.k_override, step_log, physics.solver, refine);
     if (refined) {
-      RefineConfig refine;
       refine.iterations = run.iterations;
       refine.tolerance_mm = run.tolerance_mm;
-      refine.step = config.refine_step;
       step = refined_stepper(step, physics.solver, refine, step_log);
     }
     row.K = run.k_override >= 0 ? run.k_override : run.model->model->propagation_steps_for(topology.mean_edge_length);

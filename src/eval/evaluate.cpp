@@ -325,7 +325,7 @@ std::vector<LevelResult> evaluate(const EvalConfig& config, const std::vector<Ev
         if (method.model) {
           topology = build_garment_topology(garment.mesh, garment.name,
                                             method.model->config.graph_options().geodesic_anchors);
-          step = network_stepper(*method.model, topology, -1, step_log, config.physics.solver);
+          step = network_stepper(*method.model, topology, -1, step_log, config.physics.solver, config.refine);
           if (config.refine.enabled()) step = refined_stepper(step, config.physics.solver, config.refine, step_log);
           if (mr.K == 0) mr.K = method.model->model->propagation_steps_for(topology.mean_edge_length);
         } else {

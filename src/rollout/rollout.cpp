@@ -109,10 +109,11 @@ StepFunction network_with_passes(const ModelFile& model, const GarmentTopology& 
 }  // namespace
 
 StepFunction network_stepper(const ModelFile& model, const GarmentTopology& topology, int64_t k_override,
-                             std::shared_ptr<ContactStepLog> log, const ReferenceSolverConfig& base) {
+                             std::shared_ptr<ContactStepLog> log, const ReferenceSolverConfig& base,
+                             const RefineConfig& keys) {
   StepFunction step = network_with_passes(model, topology, k_override);
   if (!model.config.refines()) return step;
-  RefineConfig refine;
+  RefineConfig refine = keys;
   refine.iterations = model.config.refine_iterations;
   refine.tolerance_mm = model.config.refine_tolerance_mm;
   ReferenceSolverConfig solver = base;  // as physics_measured_for measures it

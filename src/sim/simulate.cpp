@@ -63,7 +63,7 @@ SimulateResult simulate(const SceneConfig& scene, const std::string& scene_path,
     topology = build_garment_topology(setup.garment, "garment", model->config.graph_options().geodesic_anchors);
     contact_log = std::make_shared<ContactStepLog>();
     step = network_stepper(*model, topology, -1, model->config.refines() ? contact_log : nullptr,
-                           scene.physics.solver);
+                           scene.physics.solver, scene.refine);
     if (scene.refine.enabled()) {
       step = refined_stepper(step, scene.physics.solver, scene.refine, contact_log);
     }

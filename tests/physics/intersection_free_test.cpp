@@ -898,6 +898,7 @@ TEST(RefinedStep, FewerLeftOutToToleranceCountsFromTheStepAndSolvesToTheToleranc
   auto refined = [&](const std::string& given_start, int iterations, double tolerance_mm, ContactStepLog* log) {
     PhysicsConfig config = barrier_config();
     config.solver.given_start = given_start;
+    config.solver.own_start_where_left_out = false;  // the rules alone; the own start: the next test
     const TermList terms = build_terms(s.state.effects, config);
     const std::optional<BodyContact> contact = body_contact_for(s.state, config);
     RefineConfig refine;
@@ -933,6 +934,7 @@ TEST(RefinedStep, FewerLeftOutToToleranceCountsFromTheStepAndSolvesToTheToleranc
 TEST(RefinedStep, AStepThatLeavesClothOutStartsAsTheSolversOwnWhereAskedTo) {
   RisingSphere s;
   const torch::Tensor left_behind = s.state.x.clone();
+  EXPECT_TRUE(ReferenceSolverConfig().own_start_where_left_out) << "on by default";
   auto solve = [&](const Eigen::MatrixXd& sphere_next, bool own_where_left_out, const torch::Tensor* x_start) {
     s.state.body.next_vertices = test::positions_tensor(sphere_next);
     PhysicsConfig config = barrier_config();
@@ -1022,6 +1024,7 @@ TEST(RefinedStep, AStepPinchedWhereTheBodyCrossesItselfStartsSweptWhenItLeavesCl
   auto refine = [&](const std::string& given_start) {
     PhysicsConfig config = barrier_config();
     config.solver.given_start = given_start;
+    config.solver.own_start_where_left_out = false;  // the rules alone
     config.solver.max_iterations = 10;
     return refine_with_solver(s.state, s.cloth, config, left_behind);
   };
@@ -1241,19 +1244,21 @@ TEST(IntersectionFreeSolver, ClothTheBodyIsPlacedOnIsPushedOutOfItWhereThereIsRo
 TEST(RefinedStep, ReadsItsOwnReleaseOfTheClothThatHoldsTheBodyBack) {
   // The sphere moves 2 m onto the patch. The solver releases the cloth that holds it back by
   // default (physics.solver.release_held_cloth) and reaches its pose; a refinement reads its
-  // own switch, off by default: swept from the patch where it stands, its body gets 24 moves
-  // and is placed at its pose, short of where the moves got it.
+  // own switch (refine.release_held_cloth, on by default too), whatever the solver's says: not
+  // released, swept from the patch where it stands, its body gets 24 moves and is placed at its
+  // pose, short of where the moves got it.
   SphereMovingOntoAPatch scene;
   PhysicsConfig config = barrier_config();
   ASSERT_TRUE(config.solver.release_held_cloth);
+  ASSERT_TRUE(RefineConfig().release_held_cloth);
   config.solver.barrier_keeps_penalty = false;
   config.solver.given_start = "swept";
   const TermList terms = build_terms(scene.state.effects, config);
   const std::optional<BodyContact> contact = body_contact_for(scene.state, config);
   for (const bool release : {false, true}) {
     SCOPED_TRACE(release ? "released" : "not released");
+    config.solver.release_held_cloth = !release;  // the solver's own switch is not the one read
     RefineConfig refine;
-    EXPECT_FALSE(refine.release_held_cloth);
     refine.iterations = 10;
     refine.release_held_cloth = release;
     ContactStepLog log;

@@ -34,8 +34,9 @@ struct ModelConfig {
   // (physics/step_constraints.h). 0: off (training never limits).
   double strain_limit = 0.0;
   // > 0: at inference each step (after the two passes above) is refined by this many
-  // iterations of the reference solver (rollout/refined_step.h) with its default settings
-  // but the two below. 0: off (training never refines).
+  // iterations of the reference solver (rollout/refined_step.h): the scene's or config's
+  // physics.solver but the two keys below, refining as its refine section says (step,
+  // release_held_cloth) but for the count and the tolerance. 0: off (training never refines).
   int refine_iterations = 0;
   // > 0: refine each step until the solver's step is below this (mm; at most the solver's
   // max_iterations), as `--refine-tolerance` does; with refine_iterations > 0 as well, those

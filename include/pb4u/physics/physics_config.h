@@ -148,13 +148,15 @@ struct ReferenceSolverConfig {
   std::string given_start = "fewer_left_out_to_tolerance";
   // Where a given step's start, chosen by given_start, still leaves vertices out of barrier
   // contact (no free place near: pinched where the body crosses itself, or threaded through a
-  // limb): true = the step is dropped for that solve, which starts as the solver's own does
-  // (the ballistic prediction, swept from the cloth at t; SolverResult::own_start). The cloth
-  // the network left with no free place then goes where the solver's own motion takes it. On
-  // the tank top's CMU walk the refined file stopped at frame 40 without it; with it (and the
-  // refinement's release_held_cloth) it ran the 300 frames free of the body (docs/physics.md,
-  // "Where a refinement starts").
-  bool own_start_where_left_out = false;
+  // limb): true (the default) = the step is dropped for that solve, which starts as the
+  // solver's own does (the ballistic prediction, swept from the cloth at t;
+  // SolverResult::own_start). The cloth the network left with no free place then goes where the
+  // solver's own motion takes it. Under fewer_left_out_to_tolerance only the solve to the
+  // tolerance takes it. It works beside the refinement's release_held_cloth (on by default):
+  // on the tank top's CMU walk the refined file stopped at frame 40 without the two and ran the
+  // 300 frames with them (docs/physics.md, "The solver's own start where the step leaves cloth
+  // out").
+  bool own_start_where_left_out = true;
   // Where the body, held up by the cloth, is placed at its pose after its moves: true = the
   // cloth it then cuts or holds is first pushed out of it as a start is (intersection_free_start:
   // out of the body, edges through it pushed further), and only what that leaves is caught
@@ -171,7 +173,7 @@ struct ReferenceSolverConfig {
   // that cloth is pushed out of it as a start is, and what that frees rejoins barrier contact.
   // false = the body gets 24 moves and is then placed at its pose, the cloth it holds caught
   // inside; on the held-out run and jump that stopped the solver (frames 60 and 27). A
-  // refinement reads its own switch, off by default (RefineConfig, rollout/refined_step.h).
+  // refinement reads its own switch, also on by default (RefineConfig, rollout/refined_step.h).
   // docs/physics.md, "Releasing the cloth that holds the body back", has the figures.
   bool release_held_cloth = true;
   // How a body move carries the cloth it touches (carried_by_body.h): "push" (the default) =

@@ -14,35 +14,11 @@
 #include <memory>
 #include <string>
 
-#include "pb4u/config/config_io.h"
 #include "pb4u/physics/physics_config.h"
+#include "pb4u/rollout/refine_config.h"
 #include "pb4u/rollout/rollout.h"
 
 namespace pb4u {
-
-struct RefineConfig {
-  int iterations = 0;        // solver iterations after each step; 0 with tolerance_mm 0: off
-  double tolerance_mm = 0;   // > 0: iterate (up to the solver's max_iterations) until the
-                             // solver's step is below this (mm); with iterations > 0 as well,
-                             // those first, then on until the step is below this
-  // The solver's step for the refinement (physics.solver.step is the solver's own): "newton"
-  // lands nearer the minimum per iteration (docs/physics.md, "The Newton step").
-  std::string step = "newton";
-  // The refinement's physics.solver.release_held_cloth (the solver's own is on by default):
-  // off, the body the network's step holds back gets its 24 moves and is placed at its pose.
-  // On the demo walk the refined file read 1.25x the reference with it on, 1.03x off
-  // (docs/physics.md, "Releasing the cloth that holds the body back").
-  bool release_held_cloth = false;
-  bool enabled() const { return iterations > 0 || tolerance_mm > 0; }
-
-  template <class V>
-  void visit(V& v) {
-    v("iterations", iterations, int_at_least(0));
-    v("tolerance_mm", tolerance_mm, non_negative());
-    v("step", step, one_of({"quasi_newton", "newton"}));
-    v("release_held_cloth", release_held_cloth);
-  }
-};
 
 // One step x_step (n, 3) refined as `refine` says by the solver `solver` (its contact, barrier
 // or penalty, as configured): float64 on the CPU, as the state. `log`, when given, gets the

@@ -13,6 +13,7 @@
 
 #include "pb4u/body/body.h"
 #include "pb4u/rollout/divergence_guard.h"
+#include "pb4u/rollout/refine_config.h"
 #include "pb4u/model/model_file.h"
 #include "pb4u/garment/garment.h"
 #include "pb4u/graph/garment_topology.h"
@@ -99,10 +100,13 @@ struct ContactStepLog {
 // The network's step: K from its calibration and the garment's Lbar, or `k_override` if >= 0.
 // With the file's own refinement (refine_iterations, refine_tolerance_mm), the refining solver
 // is `solver` (the scene's or config's physics.solver) with the file's refine_contact and
-// refine_strain_limit, and `log`, when given, is overwritten by each refining solve.
+// refine_strain_limit, refining as `refine` says but for the count and the tolerance, which
+// are the file's (its step and release_held_cloth: the scene's or config's refine section);
+// `log`, when given, is overwritten by each refining solve.
 StepFunction network_stepper(const ModelFile& model, const GarmentTopology& topology, int64_t k_override = -1,
                              std::shared_ptr<ContactStepLog> log = nullptr,
-                             const ReferenceSolverConfig& solver = ReferenceSolverConfig());
+                             const ReferenceSolverConfig& solver = ReferenceSolverConfig(),
+                             const RefineConfig& refine = RefineConfig());
 
 // The physics a rollout of `model` (null: the solver) is measured with: `physics`, but where the
 // model file refines its own steps (ModelConfig::refines()) and `refined_by_config` does not
