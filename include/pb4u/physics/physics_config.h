@@ -173,7 +173,7 @@ struct ReferenceSolverConfig {
   // that cloth is pushed out of it as a start is, and what that frees rejoins barrier contact.
   // false = the body gets 24 moves and is then placed at its pose, the cloth it holds caught
   // inside; on the held-out run and jump that stopped the solver (frames 60 and 27). A
-  // refinement reads its own switch, also on by default (RefineConfig, rollout/refined_step.h).
+  // refinement reads its own switch, also on by default (RefineConfig, rollout/refine_config.h).
   // docs/physics.md, "Releasing the cloth that holds the body back", has the figures.
   bool release_held_cloth = true;
   // How a body move carries the cloth it touches (carried_by_body.h): "push" (the default) =
