@@ -52,20 +52,53 @@ SettledStart settled_start(const Body& body, const Garment& garment, const Pose&
   SettledStart out;
   out.x = garment.mesh.V;
   for (int i : pinned) out.x.row(i) = pin_targets[0].row(i);
-  for (int k = 0; k < steps; ++k) {
+  // One step of the path from `x`, with the solver's release of held cloth on or off.
+  struct Step {
+    Eigen::MatrixXd x;
+    int edges_through = 0, excluded = 0;
+    double inside_fraction = 0;
+    bool leaves_nothing_out() const { return edges_through == 0 && excluded == 0 && inside_fraction == 0; }
+    bool better_than(const Step& o) const {
+      if (edges_through != o.edges_through) return edges_through < o.edges_through;
+      if (inside_fraction != o.inside_fraction) return inside_fraction < o.inside_fraction;
+      return excluded < o.excluded;
+    }
+  };
+  auto step = [&](int k, bool release) {
     in.x0 = out.x;
     in.x_prev = out.x - (skinned[size_t(k + 1)] - skinned[size_t(k)]);
     in.body = {bodies[size_t(k)], bodies[size_t(k + 1)]};
     if (!pinned.empty()) in.pin_targets = {pin_targets[size_t(k)], pin_targets[size_t(k + 1)]};
+    PhysicsConfig p = barrier;
+    p.solver.release_held_cloth = release;
     auto log = std::make_shared<ContactStepLog>();
-    const RolloutResult r = run_rollout(in, reference_stepper(barrier.solver, log), barrier,
+    Step st;
+    const RolloutResult r = run_rollout(in, reference_stepper(p.solver, log), p,
                                         [&](int, const Eigen::MatrixXd& x, const EnergyReport&,
                                             const PenetrationFigures* pen) {
-                                          out.x = x;
-                                          if (pen) out.edges_through = pen->edges_through, out.inside_fraction = pen->penetrating_fraction;
+                                          st.x = x;
+                                          if (pen) st.edges_through = pen->edges_through, st.inside_fraction = pen->penetrating_fraction;
                                         });
     if (r.diverged) throw Error("settled start: step " + std::to_string(k + 1) + " of " + std::to_string(steps) + ": " + r.diverged_reason);
-    out.excluded_max = std::max(out.excluded_max, log->excluded);
+    st.excluded = log->excluded;
+    return st;
+  };
+  // Each step first with the body carrying the cloth it meets (release_held_cloth off), and
+  // where that leaves cloth through the body or out of barrier contact, again with the cloth that
+  // holds the body's move released: whichever leaves fewer edges through, then fewer vertices
+  // inside, is kept. Neither is best everywhere: on the tiny jump's crouch the release leaves 10
+  // edges through and carrying none; on the CMU demo walk, whose hand rests in the belly,
+  // carrying ends with 49 and the release with 6 (docs/physics.md, "A skinned first frame").
+  for (int k = 0; k < steps; ++k) {
+    Step carried = step(k, false);
+    if (!carried.leaves_nothing_out()) {
+      Step released = step(k, true);
+      if (released.better_than(carried)) carried = std::move(released);
+    }
+    out.x = carried.x;
+    out.edges_through = carried.edges_through;
+    out.inside_fraction = carried.inside_fraction;
+    out.excluded_max = std::max(out.excluded_max, carried.excluded);
   }
   // The body is already moving at the first pose: the cloth moves as skinning would move it.
   out.x_prev = out.x - (skin(next) - skinned.back());

@@ -11,8 +11,11 @@
 // (rotations by slerp, the root linearly). Each step the reference solver (barrier contact; CCD
 // on the body's move) advances the cloth with the velocity skinning would give it, without
 // gravity or friction: the cloth follows the skinning where the body leaves room and is pushed
-// where it does not, so it is never inside the body. It then starts with the velocity skinning
-// gives it from the first pose to the next (the body is already moving there).
+// where it does not, so it is never inside the body. Each step runs first with the body carrying
+// the cloth it meets (solver.release_held_cloth off) and, where that leaves cloth through the body
+// or out of barrier contact, again with the release on; the one with fewer cloth edges through the
+// body, then fewer vertices inside, is kept. It then starts with the velocity skinning gives it
+// from the first pose to the next (the body is already moving there).
 #include <Eigen/Core>
 
 #include <string>
