@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <memory>
+#include <utility>
 
 #include <spdlog/fmt/fmt.h>
 
@@ -52,7 +53,7 @@ SettledStart settled_start(const Body& body, const Garment& garment, const Pose&
   SettledStart out;
   out.x = garment.mesh.V;
   for (int i : pinned) out.x.row(i) = pin_targets[0].row(i);
-  // One step of the path from `x`, with the solver's release of held cloth on or off.
+  // Step k of the path from out.x, with the solver's release of held cloth on or off.
   struct Step {
     Eigen::MatrixXd x;
     int edges_through = 0, excluded = 0;
@@ -90,15 +91,15 @@ SettledStart settled_start(const Body& body, const Garment& garment, const Pose&
   // edges through and carrying none; on the CMU demo walk, whose hand rests in the belly,
   // carrying ends with 49 and the release with 6 (docs/physics.md, "A skinned first frame").
   for (int k = 0; k < steps; ++k) {
-    Step carried = step(k, false);
-    if (!carried.leaves_nothing_out()) {
+    Step kept = step(k, false);
+    if (!kept.leaves_nothing_out()) {
       Step released = step(k, true);
-      if (released.better_than(carried)) carried = std::move(released);
+      if (released.better_than(kept)) kept = std::move(released);
     }
-    out.x = carried.x;
-    out.edges_through = carried.edges_through;
-    out.inside_fraction = carried.inside_fraction;
-    out.excluded_max = std::max(out.excluded_max, carried.excluded);
+    out.x = kept.x;
+    out.edges_through = kept.edges_through;
+    out.inside_fraction = kept.inside_fraction;
+    out.excluded_max = std::max(out.excluded_max, kept.excluded);
   }
   // The body is already moving at the first pose: the cloth moves as skinning would move it.
   out.x_prev = out.x - (skin(next) - skinned.back());
