@@ -48,6 +48,33 @@ TEST(StepResidual, IsTheSolversStoppingStepAtItsSolutionAndTheOffsetAwayFromIt) 
   EXPECT_LT(off, 2e-3);
 }
 
+// A face flattened to a sliver: the bending's gradient grows as 1 / the face's height, and the
+// residual's H carries its curvature (growing as 1 / height^2), so the step still reads as a
+// distance: here about how far the vertex is from its rest place, the energy's minimum. Without
+// that curvature this state read 223 m (and a face at 2.6e-7 of its rest area on the hard
+// cases' jump 2.5e6 mm).
+TEST(StepResidual, AFaceFlattenedToASliverReadsADistanceNotKilometres) {
+  TriMesh g = test::grid_mesh(4, 0.4);  // 0.1 m cells
+  const ClothGeometry cloth = make_cloth_geometry(g);
+  FrameState state = test::resting_state(test::positions_tensor(g.V));
+  PhysicsConfig config;
+  const TermList terms = build_terms(state.effects, config);
+  // Vertex 12 (interior) 1 nm from the edge 7-11 opposite it in face (7, 11, 12), 71 mm from
+  // its rest place, turned 60 degrees out of the cloth's plane: that face at ~1e-8 of its rest
+  // area, its hinge with (6, 11, 7) folded by 60 degrees.
+  const Eigen::RowVector3d a = g.V.row(7), b = g.V.row(11);
+  Eigen::RowVector3d toward = g.V.row(12) - 0.5 * (a + b);
+  const double from_rest = toward.norm();
+  toward.normalize();
+  const Eigen::RowVector3d up(0, 1, 0);
+  Eigen::MatrixXd X = g.V;
+  X.row(12) = 0.5 * (a + b) + 1e-9 * (0.5 * toward + std::sqrt(0.75) * up);
+  const double residual = step_residual(test::positions_tensor(X), state, cloth, terms, nullptr);
+  EXPECT_TRUE(std::isfinite(residual));
+  EXPECT_GT(residual, 0.2 * from_rest);  // far from the minimum, and it says so
+  EXPECT_LT(residual, 3 * from_rest);    // 99 mm here; 223 m without the bending's curvature
+}
+
 TEST(ReferenceSolver, PinnedClothSettlesIntoADrapeBelowThePins) {
   const int n = 6;
   TriMesh g = test::grid_mesh(n, 0.5);

@@ -2,7 +2,9 @@
 // How far a step is from the minimum of the energy it is measured by: the length of one
 // quasi-Newton step from x_next, the largest vertex move of H^-1 grad E, with H the reference
 // solver's initial Hessian (inertia + rest membrane stiffness, quasi_newton_hessian.h) plus the
-// terms' contact curvature, and grad E the gradient of the active terms at x_next, pinned
+// terms' contact curvature and the bending's (the diagonal of its Gauss-Newton Hessian, which
+// keeps the step a distance where a face has flattened and the bending's gradient is large),
+// and grad E the gradient of the active terms at x_next, pinned
 // vertices held. 0 at the energy's minimum; the reference solver stops below its
 // step_tolerance (1e-6 m). One gradient, one sparse factorisation and one solve: any stepper's
 // output can be measured by it, the network's as well as a solver's.
