@@ -77,8 +77,12 @@ void add_stretch_hessian(const Eigen::MatrixXd& x, const ClothGeometry& cloth, c
   }
 }
 
-void add_bending_hessian(const Eigen::MatrixXd& x, const ClothGeometry& cloth, const Material& material,
-                         double degenerate_area, CoordinateHessian* hessian) {
+namespace {
+// Calls f(v, grad, k) for every hinge: v its four vertices (i, j, k0, k1), grad its
+// dihedral_angle_gradient at x, k = k_b w its stiffness (J).
+template <class F>
+void for_each_hinge_gradient(const Eigen::MatrixXd& x, const ClothGeometry& cloth, const Material& material,
+                             double degenerate_area, F f) {
   if (!(material.bending > 0) || cloth.hinges.size(0) == 0) return;
   const torch::Tensor hinges = cloth.hinges.to(torch::kCPU).contiguous();
   const torch::Tensor weight = cloth.hinge_weight.to(torch::kCPU, torch::kFloat64).contiguous();
@@ -89,8 +93,27 @@ void add_bending_hessian(const Eigen::MatrixXd& x, const ClothGeometry& cloth, c
     const Eigen::Matrix<double, 12, 1> grad = dihedral_angle_gradient(
         x.row(v[0]).transpose(), x.row(v[1]).transpose(), x.row(v[2]).transpose(), x.row(v[3]).transpose(),
         degenerate_area);
-    add_outer_product(v, 4, grad.data(), material.bending * w[h], hessian);
+    f(v, grad, material.bending * w[h]);
   }
+}
+}  // namespace
+
+void add_bending_hessian(const Eigen::MatrixXd& x, const ClothGeometry& cloth, const Material& material,
+                         double degenerate_area, CoordinateHessian* hessian) {
+  for_each_hinge_gradient(x, cloth, material, degenerate_area,
+                          [&](const int* v, const Eigen::Matrix<double, 12, 1>& grad, double k) {
+                            add_outer_product(v, 4, grad.data(), k, hessian);
+                          });
+}
+
+Eigen::VectorXd bending_hessian_diagonal(const Eigen::MatrixXd& x, const ClothGeometry& cloth,
+                                         const Material& material, double degenerate_area) {
+  Eigen::VectorXd d = Eigen::VectorXd::Zero(x.rows());
+  for_each_hinge_gradient(x, cloth, material, degenerate_area,
+                          [&](const int* v, const Eigen::Matrix<double, 12, 1>& grad, double k) {
+                            for (int a = 0; a < 4; ++a) d(v[a]) += k * grad.segment<3>(3 * a).squaredNorm();
+                          });
+  return d;
 }
 
 }  // namespace pb4u

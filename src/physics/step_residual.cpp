@@ -15,32 +15,18 @@
 namespace pb4u {
 namespace {
 
-// Per vertex, N/m: the diagonal of the bending's Gauss-Newton Hessian (elastic_hessian.h),
-// k_b w |d theta / d x_v|^2 summed over the hinges of v, where the bending term is active. As
-// a face flattens, the bending's gradient grows as 1 / its height and this as 1 / height^2, so
-// the step H^-1 grad E stays a distance (without it, a face at 2.6e-7 of its rest area read
-// 2.5e6 mm). Isotropic, as the contact curvature beside it; where no face is near collapse it
-// is small against the inertia M / dt^2.
+// Per vertex, N/m: the bending's curvature, the diagonal of its Gauss-Newton Hessian, where the
+// bending term is active. As a face flattens, the bending's gradient grows as 1 / its height and
+// this as 1 / height^2, so the step H^-1 grad E stays a distance (without it, a face at 2.6e-7 of
+// its rest area read 2.5e6 mm). Isotropic, as the contact curvature beside it; where no face is
+// near collapse it is small against the inertia M / dt^2.
 Eigen::VectorXd bending_curvature(const Eigen::MatrixXd& X, const ClothGeometry& cloth, const Material& material,
                                   const TermList& terms, const BarrierStepInput* barrier) {
-  Eigen::VectorXd d = Eigen::VectorXd::Zero(X.rows());
-  const BendingTerm* bending = nullptr;
   for (const auto& term : terms)
     if (!barrier || !barrier->drops(*term))
-      if (const auto* b = dynamic_cast<const BendingTerm*>(term.get())) bending = b;
-  if (!bending || !(material.bending > 0) || cloth.hinges.size(0) == 0) return d;
-  const torch::Tensor hinges = cloth.hinges.to(torch::kCPU).contiguous();
-  const torch::Tensor weight = cloth.hinge_weight.to(torch::kCPU, torch::kFloat64).contiguous();
-  const auto H = hinges.accessor<int64_t, 2>();
-  const auto w = weight.accessor<double, 1>();
-  for (int64_t h = 0; h < hinges.size(0); ++h) {
-    const int64_t v[4] = {H[h][0], H[h][1], H[h][2], H[h][3]};
-    const Eigen::Matrix<double, 12, 1> grad =
-        dihedral_angle_gradient(X.row(v[0]).transpose(), X.row(v[1]).transpose(), X.row(v[2]).transpose(),
-                                X.row(v[3]).transpose(), bending->degenerate_area());
-    for (int a = 0; a < 4; ++a) d(v[a]) += material.bending * w[h] * grad.segment<3>(3 * a).squaredNorm();
-  }
-  return d;
+      if (const auto* bending = dynamic_cast<const BendingTerm*>(term.get()))
+        return bending_hessian_diagonal(X, cloth, material, bending->degenerate_area());
+  return Eigen::VectorXd::Zero(X.rows());
 }
 
 }  // namespace
@@ -105,12 +91,11 @@ double step_residual(const torch::Tensor& x_next, const FrameState& state, const
     }
     const torch::Tensor held = fallback.stiffness(x.detach(), state, cloth, contact);
     if (held.defined()) contact_curvature = contact_curvature.defined() ? contact_curvature + held : held;
+    const Eigen::VectorXd diagonal =
+        barrier_curvature +
+        bending_curvature(X.size() ? X : tensor_to_matrix(x.detach()), cloth, state.material, terms, barrier);
     for (int64_t i = 0; i < n; ++i)
-      if (row[size_t(i)] >= 0) H.coeffRef(row[size_t(i)], row[size_t(i)]) += barrier_curvature(i);
-    const Eigen::VectorXd bending = bending_curvature(X.size() ? X : tensor_to_matrix(x.detach()), cloth, state.material,
-                                                      terms, barrier);
-    for (int64_t i = 0; i < n; ++i)
-      if (row[size_t(i)] >= 0) H.coeffRef(row[size_t(i)], row[size_t(i)]) += bending(i);
+      if (row[size_t(i)] >= 0) H.coeffRef(row[size_t(i)], row[size_t(i)]) += diagonal(i);
     if (contact_curvature.defined()) {
       const torch::Tensor c = contact_curvature.to(torch::kCPU, torch::kFloat64).contiguous();
       for (int64_t i = 0; i < n; ++i)

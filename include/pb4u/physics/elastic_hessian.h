@@ -27,5 +27,9 @@ void add_stretch_hessian(const Eigen::MatrixXd& x, const ClothGeometry& cloth, c
                          CoordinateHessian* hessian);
 void add_bending_hessian(const Eigen::MatrixXd& x, const ClothGeometry& cloth, const Material& material,
                          double degenerate_area, CoordinateHessian* hessian);
+// Per vertex (N/m), the trace over its 3 x 3 diagonal block of the bending's Gauss-Newton Hessian
+// above: k_b w |d theta / d x_v|^2 summed over the hinges of v (step_residual.h's isotropic H).
+Eigen::VectorXd bending_hessian_diagonal(const Eigen::MatrixXd& x, const ClothGeometry& cloth,
+                                         const Material& material, double degenerate_area);
 
 }  // namespace pb4u
