@@ -6,11 +6,13 @@
 #include "pb4u/physics/barrier_potential.h"
 #include "pb4u/physics/bending_energy.h"
 #include "pb4u/physics/elastic_hessian.h"
+#include "pb4u/physics/elastic_solve.h"
 #include "pb4u/physics/energy_report.h"
 #include "pb4u/physics/intersection_free_start.h"
 #include "pb4u/physics/quasi_newton_hessian.h"
 #include "pb4u/physics/reference_solver.h"
 #include "pb4u/util/eigen_tensor.h"
+#include "pb4u/util/error.h"
 
 namespace pb4u {
 namespace {
@@ -29,11 +31,57 @@ Eigen::VectorXd bending_curvature(const Eigen::MatrixXd& X, const ClothGeometry&
   return Eigen::VectorXd::Zero(X.rows());
 }
 
+// The reference solver's Newton Hessian at X (incremental_potential_solve.cpp, contact_diagonal
+// with step newton), on the coordinates of the vertices `row` keeps: inertia, the elastic terms'
+// Hessians, each term's contact curvature in its direction, the penalty's on the vertices the
+// barrier left to it, and the barrier pairs' blocks.
+Eigen::SparseMatrix<double> newton_hessian(const Eigen::MatrixXd& X, const torch::Tensor& x, const FrameState& state,
+                                           const ClothGeometry& cloth, const TermList& terms,
+                                           const BodyContact* contact, const BarrierStepInput* barrier,
+                                           const PenaltyFallback& fallback, const ContactSurface& body,
+                                           const ContactCandidates& candidates, const std::vector<int>& row) {
+  const int64_t n = cloth.num_vertices;
+  CoordinateHessian H{int(n)};
+  const torch::Tensor mass = cloth.vertex_masses(state.material.density).to(torch::kCPU, torch::kFloat64).contiguous();
+  for (int64_t v = 0; v < n; ++v)
+    if (row[size_t(v)] >= 0) {
+      const double m = mass.data_ptr<double>()[v];
+      H.add(int(v), int(v), (m > 0 ? m / (state.dt * state.dt) : 1.0) * Eigen::Matrix3d::Identity());
+    }
+  auto add_contact = [&](const PhysicsTerm& term, const torch::Tensor& c) {
+    const Eigen::VectorXd k = tensor_to_matrix(c.reshape({-1, 1})).col(0);
+    const PhysicsTerm::ContactDirection direction = term.contact_direction(state, contact);
+    if (direction.normal.defined()) {
+      add_directional_stiffness(k, tensor_to_matrix(direction.normal), direction.across, &H);
+    } else {
+      for (int64_t v = 0; v < n; ++v)
+        if (k(v) != 0) H.add(int(v), int(v), k(v) * Eigen::Matrix3d::Identity());
+    }
+  };
+  for (const auto& term : terms) {
+    if (barrier && barrier->drops(*term)) continue;
+    if (term->name() == "stretch") add_stretch_hessian(X, cloth, state.material, &H);
+    if (const auto* bending = dynamic_cast<const BendingTerm*>(term.get()))
+      add_bending_hessian(X, cloth, state.material, bending->degenerate_area(), &H);
+    const torch::Tensor c = term->contact_stiffness(x, state, cloth, contact);
+    if (c.defined()) add_contact(*term, c);
+  }
+  if (fallback.active()) add_contact(*fallback.term, fallback.stiffness(x, state, cloth, contact));
+  if (barrier) barrier_potential(X, barrier->cloth_edges, body, candidates, barrier->settings, nullptr, nullptr, &H);
+  return H.matrix(row);
+}
+
 }  // namespace
+
+ResidualHessian residual_hessian_from_name(const std::string& name) {
+  if (name == "newton") return ResidualHessian::newton;
+  if (name == "quasi_newton") return ResidualHessian::quasi_newton;
+  throw Error("physics.solver.residual_hessian: '" + name + "' is not newton or quasi_newton");
+}
 
 double step_residual(const torch::Tensor& x_next, const FrameState& state, const ClothGeometry& cloth,
                      const TermList& terms, const BodyContact* contact, const BarrierStepInput* barrier,
-                     const std::vector<char>* excluded_by_solver) {
+                     const std::vector<char>* excluded_by_solver, ResidualHessian metric) {
   const int64_t n = cloth.num_vertices;
   std::vector<char> pinned(size_t(n), 0);
   if (state.effects.pins && state.pinned.defined()) {
@@ -72,6 +120,32 @@ double step_residual(const torch::Tensor& x_next, const FrameState& state, const
     if (!barrier || !barrier->drops(*term)) E = E + term->energy(x, state, cloth, contact);
   E = E + fallback.energy(x);
   Eigen::MatrixXd G = tensor_to_matrix(torch::autograd::grad({E}, {x})[0]);
+  if (metric == ResidualHessian::newton) {
+    torch::NoGradGuard no_grad;
+    if (!X.size()) X = tensor_to_matrix(x.detach());
+    if (barrier) {
+      Eigen::MatrixXd barrier_gradient = Eigen::MatrixXd::Zero(n, 3);
+      barrier_potential(X, barrier->cloth_edges, body, candidates, barrier->settings, &barrier_gradient);
+      G += barrier_gradient;
+    }
+    const Eigen::SparseMatrix<double> H =
+        newton_hessian(X, x.detach(), state, cloth, terms, contact, barrier, fallback, body, candidates, row);
+    Eigen::VectorXd r(3 * k);
+    for (int64_t i = 0; i < n; ++i)
+      if (row[size_t(i)] >= 0) r.segment<3>(3 * row[size_t(i)]) = G.row(i).transpose();
+    ElasticSolve solve;  // its LDLT, with the diagonal shifted where rounding loses a pivot
+    try {
+      solve.ldlt.analyzePattern(H);
+      solve.factorize_shifted(H);
+    } catch (const Error&) {
+      return std::numeric_limits<double>::quiet_NaN();
+    }
+    const Eigen::VectorXd d = solve.ldlt.solve(r);
+    return Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>>(d.data(), k, 3)
+        .rowwise()
+        .norm()
+        .maxCoeff();
+  }
   Eigen::VectorXd barrier_curvature = Eigen::VectorXd::Zero(n);
   if (barrier) {
     Eigen::MatrixXd barrier_gradient = Eigen::MatrixXd::Zero(n, 3);

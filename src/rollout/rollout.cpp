@@ -264,7 +264,8 @@ RolloutResult run_rollout(const RolloutInput& in, const StepFunction& step,
         if (solved) barrier->settings.stiffness = in.step_log->barrier_stiffness;
         report.residual_mm = 1e3 * step_residual(x_next, measured, cloth, terms, contact ? &*contact : nullptr,
                                                  barrier ? &*barrier : nullptr,
-                                                 solved ? &in.step_log->excluded_vertices : nullptr);
+                                                 solved ? &in.step_log->excluded_vertices : nullptr,
+                                                 residual_hessian_from_name(physics.solver.residual_hessian));
       }
     }
     if (!finite) {

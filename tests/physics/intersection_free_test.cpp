@@ -539,6 +539,14 @@ TEST(StepResidual, BarrierContactIsMeasuredAgainstTheIntersectionFreeSolversOwnM
   torch::Tensor lifted = r.x_next.clone();
   lifted.select(1, 1).add_(1e-3);
   EXPECT_GT(step_residual(lifted, state, scene.cloth, terms, &*contact, &*barrier), 1e-4);
+  // One vertex 1 mm up, out of the cloth's plane: about its offset or more (the barrier's
+  // curvature that held it is gone where it was moved to), where the isotropic metric reads it
+  // a tenth as long.
+  torch::Tensor wrinkled = r.x_next.clone();
+  wrinkled[wrinkled.size(0) / 2][1] += 1e-3;
+  const double wrinkle = step_residual(wrinkled, state, scene.cloth, terms, &*contact, &*barrier);
+  std::printf("one vertex lifted 1 mm: %.3g mm\n", 1e3 * wrinkle);
+  EXPECT_GT(wrinkle, 0.5e-3);
 }
 
 TEST(IntersectionFreeSolver, AdaptiveStiffnessHoldsAHeavyClothFartherOffTheBody) {

@@ -26,26 +26,64 @@ SolverResult step(FrameState& state, const ClothGeometry& cloth, const TermList&
   return r;
 }
 
-TEST(StepResidual, IsTheSolversStoppingStepAtItsSolutionAndTheOffsetAwayFromIt) {
-  // A cloth falling onto a sphere, one solved frame, then that frame's output moved off it.
+// The residual's step from a cloth over a sphere, one solved frame in, and moved off that
+// frame's output. gap: the cloth's start above the sphere's top (m).
+struct SolvedOverSphere {
   TriMesh g;
-  FrameState state = test::cloth_above_sphere(6, 0.3, 0.25, 0.01, 3, &g);
-  const ClothGeometry cloth = make_cloth_geometry(g);
+  FrameState state;
+  ClothGeometry cloth;
   PhysicsConfig config;
-  config.solver.max_iterations = 1000;
-  const TermList terms = build_terms(state.effects, config);
-  const std::optional<BodyContact> contact = body_contact_for(state, config);
-  const SolverResult r = solve_reference_frame(state, cloth, terms, config);
-  ASSERT_TRUE(r.converged);
+  TermList terms;
+  std::optional<BodyContact> contact;
+  SolverResult r;
+  explicit SolvedOverSphere(double gap) {
+    state = test::cloth_above_sphere(6, 0.3, 0.25, gap, 3, &g);
+    cloth = make_cloth_geometry(g);
+    config.solver.max_iterations = 1000;
+    terms = build_terms(state.effects, config);
+    contact = body_contact_for(state, config);
+    r = solve_reference_frame(state, cloth, terms, config);
+  }
+  // mm
+  double residual(const torch::Tensor& x, ResidualHessian h = ResidualHessian::newton) const {
+    return 1e3 * step_residual(x, state, cloth, terms, contact ? &*contact : nullptr, nullptr, nullptr, h);
+  }
+};
+
+TEST(StepResidual, IsTheSolversStoppingStepAtItsSolutionAndAnOffsetsLengthAwayFromIt) {
+  // gap 1 cm: the cloth falls into the penalty term's reach within the frame.
+  const SolvedOverSphere touching(0.01);
+  ASSERT_TRUE(touching.r.converged);
   // Per vertex (the solver's step norm is per coordinate): at most sqrt(3) x its tolerance.
-  const double at_solution = step_residual(r.x_next, state, cloth, terms, contact ? &*contact : nullptr);
-  EXPECT_LT(at_solution, std::sqrt(3.0) * config.solver.step_tolerance);
-  // Every free vertex 1 mm up (the cloth hangs in the air, 1 cm over the sphere): the step
-  // back is about 1 mm (the initial Hessian is the solver's, not the exact one).
-  const torch::Tensor lifted = r.x_next + torch::tensor({0.0, 1e-3, 0.0}, torch::kFloat64);
-  const double off = step_residual(lifted, state, cloth, terms, contact ? &*contact : nullptr);
-  EXPECT_GT(off, 0.5e-3);
-  EXPECT_LT(off, 2e-3);
+  const double tolerance_mm = 1e3 * std::sqrt(3.0) * touching.config.solver.step_tolerance;
+  EXPECT_LT(touching.residual(touching.r.x_next), tolerance_mm);
+  EXPECT_LT(touching.residual(touching.r.x_next, ResidualHessian::quasi_newton), tolerance_mm);
+
+  // gap 10 cm: the cloth falls in the air, where the energy is smooth and the Newton step
+  // reads an offset's length. Every vertex 1 mm up; one interior vertex 1 mm out of the
+  // cloth's plane (a wrinkle), which the isotropic metric's membrane stiffness reads short.
+  const SolvedOverSphere falling(0.1);
+  ASSERT_TRUE(falling.r.converged);
+  const torch::Tensor up = torch::tensor({0.0, 1e-3, 0.0}, torch::kFloat64);
+  const double lifted = falling.residual(falling.r.x_next + up);
+  torch::Tensor wrinkled = falling.r.x_next.clone();
+  wrinkled[24][1] += 1e-3;  // the 7 x 7 grid's middle vertex
+  const double wrinkle = falling.residual(wrinkled);
+  const double wrinkle_isotropic = falling.residual(wrinkled, ResidualHessian::quasi_newton);
+  std::printf("in the air, lifted 1 mm: %.3g mm; one vertex 1 mm out of the plane: %.3g mm (isotropic metric %.3g mm)\n",
+              lifted, wrinkle, wrinkle_isotropic);
+  EXPECT_NEAR(lifted, 1.0, 0.05);
+  EXPECT_GT(wrinkle, 0.5);
+  EXPECT_LT(wrinkle, 2.0);
+  EXPECT_LT(wrinkle_isotropic, 0.1);
+
+  // Touching, every vertex 1 mm up: the step from there no longer sees the contact's curvature
+  // that holds the cloth at the minimum, so it reads long, but no farther than the offset plus
+  // a frame's free fall (g dt^2, 10.9 mm at 30 fps).
+  const double off_contact = touching.residual(touching.r.x_next + up);
+  std::printf("touching, lifted 1 mm: %.3g mm\n", off_contact);
+  EXPECT_GT(off_contact, 0.5);
+  EXPECT_LT(off_contact, 1.0 + 1e3 * 9.81 * touching.state.dt * touching.state.dt);
 }
 
 // A face flattened to a sliver: the bending's gradient grows as 1 / the face's height, and the

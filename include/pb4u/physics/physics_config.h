@@ -207,6 +207,12 @@ struct ReferenceSolverConfig {
   // stalls there: the demo walk's frames 210-300 end 5-12 mm from the minimum), L-BFGS with
   // the penalty term alone (converged there, and 1.8x faster than Newton).
   std::string step = "auto";
+  // The Hessian of every rollout's per-frame residual (step_residual.h, `residual_mm`):
+  // "newton" = this solver's Newton Hessian at the step (where the energy is smooth an offset
+  // reads its length in any direction; on the network's steps 1.43x the true distance, median);
+  // "quasi_newton" = L-BFGS's isotropic initial Hessian (the residual until 2026-12-05; it reads
+  // an offset out of the cloth's plane short, 0.68x; docs/physics.md).
+  std::string residual_hessian = "newton";
 
   template <class V>
   void visit(V& v) {
@@ -239,6 +245,7 @@ struct ReferenceSolverConfig {
     v("penalty_faces", penalty_faces, one_of({"all", "outer"}));
     v("barrier_hessian", barrier_hessian, one_of({"blocks", "diagonal"}));
     v("step", step, one_of({"auto", "quasi_newton", "newton"}));
+    v("residual_hessian", residual_hessian, one_of({"newton", "quasi_newton"}));
   }
 };
 
