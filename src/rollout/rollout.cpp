@@ -161,6 +161,9 @@ StepFunction reference_stepper(const ReferenceSolverConfig& solver, std::shared_
 
 namespace {
 
+// mm: how close to its minimum the solve from a sampled frame's step goes (minimum_every).
+constexpr double kMinimumToleranceMm = 1e-3;
+
 bool report_finite(const EnergyReport& r) {
   if (!std::isfinite(r.total)) return false;
   for (const auto& t : r.terms)
@@ -267,6 +270,19 @@ RolloutResult run_rollout(const RolloutInput& in, const StepFunction& step,
                                                  solved ? &in.step_log->excluded_vertices : nullptr,
                                                  residual_hessian_from_name(physics.solver.residual_hessian));
       }
+    }
+    if (finite && in.minimum_every > 0 && frame % in.minimum_every == 0) {
+      FrameState measured = state;
+      measured.material = in.metric_material;
+      RefineConfig to_minimum;
+      to_minimum.tolerance_mm = kMinimumToleranceMm;
+      const torch::Tensor at_step = x_next.to(torch::kFloat64);
+      const torch::Tensor x_min =
+          refine_step(at_step, measured, cloth, terms, contact ? &*contact : nullptr, physics.solver, to_minimum);
+      report.minimum_distance_mm = 1e3 * (x_min - at_step).pow(2).sum(1).sqrt().max().item<double>();
+      report.minimum_gap_j =
+          report.total -
+          energy_report(terms, x_min, state, cloth, contact ? &*contact : nullptr, in.metric_material).total;
     }
     if (!finite) {
       result.diverged = true;

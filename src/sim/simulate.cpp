@@ -2,11 +2,14 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <limits>
 
 #include "pb4u/rollout/rollout.h"
 #include "pb4u/util/atomic_file.h"
+#include "pb4u/util/median.h"
 #include "pb4u/io/preview.h"
 #include "pb4u/util/plot_script.h"
 #include "pb4u/util/progress.h"
@@ -53,6 +56,7 @@ SimulateResult simulate(const SceneConfig& scene, const std::string& scene_path,
   const bool body_written = !setup.body.empty();
   RolloutInput in = scene_rollout_input(scene, setup);
   in.measure_residual = scene.outputs.residual;
+  in.minimum_every = scene.outputs.minimum_every;
   outputs.fps = 1.0 / in.dt;
   RolloutWriter writer(out_dir, setup.garment.F, body_written ? setup.body_faces : Eigen::MatrixXi(), outputs);
 
@@ -88,6 +92,10 @@ SimulateResult simulate(const SceneConfig& scene, const std::string& scene_path,
   for (const auto& t : terms) zero.emplace_back(t, nan);
   zero.emplace_back("total", nan);
   zero.emplace_back("residual_mm", nan);
+  if (in.minimum_every > 0) {
+    zero.emplace_back("distance_to_minimum_mm", nan);
+    zero.emplace_back("energy_gap_j", nan);
+  }
   if (body_written) {
     zero.emplace_back("penetrating_fraction", nan);
     zero.emplace_back("max_penetration_mm", nan);
@@ -111,6 +119,10 @@ SimulateResult simulate(const SceneConfig& scene, const std::string& scene_path,
                                   auto row = report.terms;
                                   row.emplace_back("total", report.total);
                                   row.emplace_back("residual_mm", report.residual_mm);
+                                  if (in.minimum_every > 0) {
+                                    row.emplace_back("distance_to_minimum_mm", report.minimum_distance_mm);
+                                    row.emplace_back("energy_gap_j", report.minimum_gap_j);
+                                  }
                                   if (penetration) {
                                     row.emplace_back("penetrating_fraction", penetration->penetrating_fraction);
                                     row.emplace_back("max_penetration_mm", penetration->max_penetration_mm);
@@ -162,6 +174,18 @@ SimulateResult simulate(const SceneConfig& scene, const std::string& scene_path,
   for (const EnergyReport& report : r.reports) {
     result.residual_mm_mean += report.residual_mm / r.reports.size();
     result.residual_mm_max = std::max(result.residual_mm_max, report.residual_mm);
+  }
+  std::vector<double> distances, gaps;
+  for (const EnergyReport& report : r.reports)
+    if (std::isfinite(report.minimum_distance_mm)) {
+      distances.push_back(report.minimum_distance_mm);
+      gaps.push_back(report.minimum_gap_j);
+    }
+  result.minimum_frames = int(distances.size());
+  if (!distances.empty()) {
+    result.minimum_distance_median = median(distances);
+    result.minimum_distance_max = *std::max_element(distances.begin(), distances.end());
+    result.minimum_gap_median = median(gaps);
   }
   if (scene.outputs.plot && scene.outputs.energies_csv && writer.num_frames() > 1)
     plot_energies(out_dir + "/energies.csv", out_dir + "/energies.png", &result.files);

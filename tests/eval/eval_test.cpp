@@ -483,6 +483,41 @@ TEST(Simulate, ReferenceMethodNeedsNoCheckpointAndHoldsPins) {
   EXPECT_NE(r.err.find("--checkpoint"), std::string::npos) << r.err;
 }
 
+TEST(Simulate, MinimumEverySolvesTheSampledFramesOnToTheirMinimum) {
+  // Every 2nd frame the solver goes on from the step to its minimum: the untrained network's
+  // step is millimetres from it and higher in energy; the reference's own step is at it.
+  const std::string out = test::temp_dir("sim_minimum");
+  const std::string scene = kSource + "/configs/scenes/hanging_cloth.yaml --set garment.resolution=6 --frames 4 "
+                                      "--format none --preview off --minimum-every ";
+  auto column = [](const std::vector<std::vector<std::string>>& csv, const std::string& name) {
+    const size_t c = std::find(csv[0].begin(), csv[0].end(), name) - csv[0].begin();
+    EXPECT_LT(c, csv[0].size()) << name;
+    std::vector<double> v;
+    for (size_t f = 1; f < csv.size() && c < csv[0].size(); ++f) v.push_back(std::stod(csv[f][c]));
+    return v;  // frames 0..
+  };
+  auto r = test::run_pb4u("simulate --checkpoint " + tiny_checkpoint() + " --scene " + scene + "2 --out " + out + "/net");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("distance to the minimum on 2 sampled frames"), std::string::npos) << r.err;
+  auto csv = read_csv(out + "/net/energies.csv");
+  std::vector<double> distance = column(csv, "distance_to_minimum_mm"), gap = column(csv, "energy_gap_j");
+  ASSERT_EQ(distance.size(), 5u);
+  for (int f : {0, 1, 3}) EXPECT_TRUE(std::isnan(distance[size_t(f)]) && std::isnan(gap[size_t(f)])) << f;
+  for (int f : {2, 4}) {
+    EXPECT_GT(distance[size_t(f)], 0.1) << f;  // mm
+    EXPECT_GT(gap[size_t(f)], 0.0) << f;       // J: lower at the minimum
+  }
+  r = test::run_pb4u("-q simulate --method reference --scene " + scene + "1 --out " + out + "/reference");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  csv = read_csv(out + "/reference/energies.csv");
+  distance = column(csv, "distance_to_minimum_mm");
+  gap = column(csv, "energy_gap_j");
+  for (size_t f = 1; f < distance.size(); ++f) {
+    EXPECT_LT(distance[f], 0.01) << f;   // mm: the solver stopped within 0.001 mm steps of it
+    EXPECT_LT(std::abs(gap[f]), 1e-6) << f;  // J
+  }
+}
+
 TEST(Simulate, RefineRunsTheSolverFromTheNetworksStepAndNeedsTheNetwork) {
   const std::string out = test::temp_dir("sim_refine");
   const std::string scene = kSource + "/configs/scenes/hanging_cloth.yaml --set garment.resolution=6 --frames 3 "

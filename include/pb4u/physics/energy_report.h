@@ -18,6 +18,11 @@ struct EnergyReport {
   // mm: how far the step is from the minimum of this energy (step_residual.h); NaN where not
   // measured. Not a term: it is in neither `terms` nor `total`.
   double residual_mm = std::numeric_limits<double>::quiet_NaN();
+  // On sampled frames (RolloutInput::minimum_every), the step against the minimum the reference
+  // solver reaches from it (to 0.001 mm): the largest vertex move there (mm) and how much lower
+  // this energy's total is there (J). NaN where not measured.
+  double minimum_distance_mm = std::numeric_limits<double>::quiet_NaN();
+  double minimum_gap_j = std::numeric_limits<double>::quiet_NaN();
 
   bool has(const std::string& name) const;
   double value(const std::string& name) const;  // throws pb4u::Error when absent

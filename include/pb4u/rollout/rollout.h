@@ -46,6 +46,9 @@ struct RolloutInput {
   double dt = 1.0 / 30.0;            // s
   DivergenceConfig divergence;       // when to stop beyond non-finite values
   bool measure_residual = true;      // each frame's EnergyReport::residual_mm (step_residual.h)
+  // > 0: every minimum_every-th frame, the step solved to the minimum from where it stands
+  // (EnergyReport::minimum_distance_mm, minimum_gap_j): a reference solve a sampled frame.
+  int minimum_every = 0;
   // The step's ContactStepLog, when its stepper writes one: the residual then measures the
   // solver's objective (its left-out vertices and kappa) instead of recomputing who is free.
   std::shared_ptr<const ContactStepLog> step_log;

@@ -107,6 +107,11 @@ struct SceneOutputs {
   // Each frame's residual (energies.csv residual_mm): a Newton step of the solver from the
   // frame's step, on the CPU. Off, the column is nan; large garments on a GPU save its time.
   bool residual = true;
+  // > 0: every minimum_every-th frame the reference solver goes on from the frame's step to its
+  // minimum (to 0.001 mm), and energies.csv gets distance_to_minimum_mm (the largest vertex
+  // move there) and energy_gap_j (how much lower the energy is there); nan on other frames.
+  // The residual's yardstick: a solver's solve each sampled frame.
+  int minimum_every = 0;
   template <class V>
   void visit(V& v) {
     v("mesh_format", mesh_format, one_of({"obj", "ply", "none"}));
@@ -117,6 +122,7 @@ struct SceneOutputs {
     v("energies_csv", energies_csv);
     v("plot", plot);
     v("residual", residual);
+    v("minimum_every", minimum_every, int_at_least(0));
   }
 };
 
