@@ -276,9 +276,14 @@ RolloutResult run_rollout(const RolloutInput& in, const StepFunction& step,
       measured.material = in.metric_material;
       RefineConfig to_minimum;
       to_minimum.tolerance_mm = kMinimumToleranceMm;
+      // From the step where it stands (made free of the body at t + dt), never from the
+      // solver's own start: the minimum nearest the step, not another one.
+      ReferenceSolverConfig from_step = physics.solver;
+      from_step.given_start = "at_step";
+      from_step.own_start_where_left_out = false;
       const torch::Tensor at_step = x_next.to(torch::kFloat64);
       const torch::Tensor x_min =
-          refine_step(at_step, measured, cloth, terms, contact ? &*contact : nullptr, physics.solver, to_minimum);
+          refine_step(at_step, measured, cloth, terms, contact ? &*contact : nullptr, from_step, to_minimum);
       report.minimum_distance_mm = 1e3 * (x_min - at_step).pow(2).sum(1).sqrt().max().item<double>();
       report.minimum_gap_j =
           report.total -

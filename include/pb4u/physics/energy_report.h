@@ -19,8 +19,10 @@ struct EnergyReport {
   // measured. Not a term: it is in neither `terms` nor `total`.
   double residual_mm = std::numeric_limits<double>::quiet_NaN();
   // On sampled frames (RolloutInput::minimum_every), the step against the minimum the reference
-  // solver reaches from it (to 0.001 mm): the largest vertex move there (mm) and how much lower
-  // this energy's total is there (J). NaN where not measured.
+  // solver reaches from it (to 0.001 mm; a refinement's solve from the step where it stands,
+  // made free of the body first, at the barrier's fixed kappa): the largest vertex move there
+  // (mm) and how much lower this energy's total is there (J; below 0 where the barrier the
+  // solve minimises with it costs more than the terms gain). NaN where not measured.
   double minimum_distance_mm = std::numeric_limits<double>::quiet_NaN();
   double minimum_gap_j = std::numeric_limits<double>::quiet_NaN();
 

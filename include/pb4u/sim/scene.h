@@ -110,7 +110,7 @@ struct SceneOutputs {
   // > 0: every minimum_every-th frame the reference solver goes on from the frame's step to its
   // minimum (to 0.001 mm), and energies.csv gets distance_to_minimum_mm (the largest vertex
   // move there) and energy_gap_j (how much lower the energy is there); nan on other frames.
-  // The residual's yardstick: a solver's solve each sampled frame.
+  // The residual's yardstick: a solver's solve each sampled frame (energy_report.h).
   int minimum_every = 0;
   template <class V>
   void visit(V& v) {
