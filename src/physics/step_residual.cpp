@@ -31,44 +31,33 @@ Eigen::VectorXd bending_curvature(const Eigen::MatrixXd& X, const ClothGeometry&
   return Eigen::VectorXd::Zero(X.rows());
 }
 
-// The reference solver's Newton Hessian at X (incremental_potential_solve.cpp, contact_diagonal
-// with step newton), on the coordinates of the vertices `row` keeps: inertia, the elastic terms'
-// Hessians, each term's contact curvature in its direction, the penalty's on the vertices the
-// barrier left to it, and the barrier pairs' blocks.
-Eigen::SparseMatrix<double> newton_hessian(const Eigen::MatrixXd& X, const torch::Tensor& x, const FrameState& state,
-                                           const ClothGeometry& cloth, const TermList& terms,
-                                           const BodyContact* contact, const BarrierStepInput* barrier,
-                                           const PenaltyFallback& fallback, const ContactSurface& body,
-                                           const ContactCandidates& candidates, const std::vector<int>& row) {
-  const int64_t n = cloth.num_vertices;
-  CoordinateHessian H{int(n)};
-  const torch::Tensor mass = cloth.vertex_masses(state.material.density).to(torch::kCPU, torch::kFloat64).contiguous();
-  for (int64_t v = 0; v < n; ++v)
-    if (row[size_t(v)] >= 0) {
-      const double m = mass.data_ptr<double>()[v];
-      H.add(int(v), int(v), (m > 0 ? m / (state.dt * state.dt) : 1.0) * Eigen::Matrix3d::Identity());
-    }
+// Adds the reference solver's Newton Hessian at X but the inertia and the barrier pairs
+// (incremental_potential_solve.cpp, contact_diagonal with step newton) into *H: the elastic
+// terms' Hessians and each term's contact curvature in its direction (the penalty's on the
+// vertices the barrier left to it).
+void add_elastic_and_contact_hessian(const Eigen::MatrixXd& X, const torch::Tensor& x, const FrameState& state,
+                                     const ClothGeometry& cloth, const TermList& terms, const BodyContact* contact,
+                                     const BarrierStepInput* barrier, const PenaltyFallback& fallback,
+                                     CoordinateHessian* H) {
   auto add_contact = [&](const PhysicsTerm& term, const torch::Tensor& c) {
     const Eigen::VectorXd k = tensor_to_matrix(c.reshape({-1, 1})).col(0);
     const PhysicsTerm::ContactDirection direction = term.contact_direction(state, contact);
     if (direction.normal.defined()) {
-      add_directional_stiffness(k, tensor_to_matrix(direction.normal), direction.across, &H);
+      add_directional_stiffness(k, tensor_to_matrix(direction.normal), direction.across, H);
     } else {
-      for (int64_t v = 0; v < n; ++v)
-        if (k(v) != 0) H.add(int(v), int(v), k(v) * Eigen::Matrix3d::Identity());
+      for (Eigen::Index v = 0; v < k.size(); ++v)
+        if (k(v) != 0) H->add(int(v), int(v), k(v) * Eigen::Matrix3d::Identity());
     }
   };
   for (const auto& term : terms) {
     if (barrier && barrier->drops(*term)) continue;
-    if (term->name() == "stretch") add_stretch_hessian(X, cloth, state.material, &H);
+    if (term->name() == "stretch") add_stretch_hessian(X, cloth, state.material, H);
     if (const auto* bending = dynamic_cast<const BendingTerm*>(term.get()))
-      add_bending_hessian(X, cloth, state.material, bending->degenerate_area(), &H);
+      add_bending_hessian(X, cloth, state.material, bending->degenerate_area(), H);
     const torch::Tensor c = term->contact_stiffness(x, state, cloth, contact);
     if (c.defined()) add_contact(*term, c);
   }
   if (fallback.active()) add_contact(*fallback.term, fallback.stiffness(x, state, cloth, contact));
-  if (barrier) barrier_potential(X, barrier->cloth_edges, body, candidates, barrier->settings, nullptr, nullptr, &H);
-  return H.matrix(row);
 }
 
 }  // namespace
@@ -123,24 +112,25 @@ double step_residual(const torch::Tensor& x_next, const FrameState& state, const
   if (metric == ResidualHessian::newton) {
     torch::NoGradGuard no_grad;
     if (!X.size()) X = tensor_to_matrix(x.detach());
-    if (barrier) {
+    // The solver's own Newton solve: inertia M / dt^2, then the blocks above and the barrier's.
+    const std::shared_ptr<ElasticSolve> solve =
+        newton_elastic_solve(cloth.vertex_masses(state.material.density), state.dt, row, k);
+    add_elastic_and_contact_hessian(X, x.detach(), state, cloth, terms, contact, barrier, fallback, &solve->hessian);
+    if (barrier) {  // its gradient and its blocks in one pass over the pairs
       Eigen::MatrixXd barrier_gradient = Eigen::MatrixXd::Zero(n, 3);
-      barrier_potential(X, barrier->cloth_edges, body, candidates, barrier->settings, &barrier_gradient);
+      barrier_potential(X, barrier->cloth_edges, body, candidates, barrier->settings, &barrier_gradient, nullptr,
+                        &solve->hessian);
       G += barrier_gradient;
     }
-    const Eigen::SparseMatrix<double> H =
-        newton_hessian(X, x.detach(), state, cloth, terms, contact, barrier, fallback, body, candidates, row);
-    Eigen::VectorXd r(3 * k);
-    for (int64_t i = 0; i < n; ++i)
-      if (row[size_t(i)] >= 0) r.segment<3>(3 * row[size_t(i)]) = G.row(i).transpose();
-    ElasticSolve solve;  // its LDLT, with the diagonal shifted where rounding loses a pivot
     try {
-      solve.ldlt.analyzePattern(H);
-      solve.factorize_shifted(H);
+      solve->factorize(torch::Tensor());  // with the diagonal shifted where rounding loses a pivot
     } catch (const Error&) {
       return std::numeric_limits<double>::quiet_NaN();
     }
-    const Eigen::VectorXd d = solve.ldlt.solve(r);
+    Eigen::VectorXd r(3 * k);
+    for (int64_t i = 0; i < n; ++i)
+      if (row[size_t(i)] >= 0) r.segment<3>(3 * row[size_t(i)]) = G.row(i).transpose();
+    const Eigen::VectorXd d = solve->ldlt.solve(r);
     return Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>>(d.data(), k, 3)
         .rowwise()
         .norm()

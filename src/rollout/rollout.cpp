@@ -237,6 +237,7 @@ RolloutResult run_rollout(const RolloutInput& in, const StepFunction& step,
   ContactSurface posed_body;
   if (measure_penetration) posed_body = make_contact_surface(in.body[0], in.body_faces);
   RolloutResult result;
+  const ResidualHessian residual_hessian = residual_hessian_from_name(physics.solver.residual_hessian);
   double start_positive = 0;  // frame 1's positive energy (J): the divergence guard's start
   for (int frame = 1; frame <= in.steps; ++frame) {
     if (with_body && frame > 1) {
@@ -268,7 +269,7 @@ RolloutResult run_rollout(const RolloutInput& in, const StepFunction& step,
         report.residual_mm = 1e3 * step_residual(x_next, measured, cloth, terms, contact ? &*contact : nullptr,
                                                  barrier ? &*barrier : nullptr,
                                                  solved ? &in.step_log->excluded_vertices : nullptr,
-                                                 residual_hessian_from_name(physics.solver.residual_hessian));
+                                                 residual_hessian);
       }
     }
     if (finite && in.minimum_every > 0 && frame % in.minimum_every == 0) {
