@@ -29,6 +29,7 @@ void add_evaluate_command(CLI::App& app, const GlobalOptions& global) {
     std::string config, format = "table", preview, frames_dir, start;
     int refine = -1;
     double refine_tolerance = -1;
+    int minimum_every = -1;
   };
   auto args = std::make_shared<Args>();
   cmd->add_option("--checkpoint", args->checkpoints, "Training checkpoint or export (repeatable)");
@@ -60,6 +61,12 @@ void add_evaluate_command(CLI::App& app, const GlobalOptions& global) {
                   "Write every rollout's frames as CSV (energy terms, positive energy, residual, penetration) to "
                   "DIR/lv<level>/<method>/<garment>_<motion>_<body>.csv, replacing files of those names "
                   "(config key frames_dir)");
+  cmd->add_option("--minimum-every", args->minimum_every,
+                  "Every N-th frame of every rollout, solve the frame's step on to the energy's minimum (to 0.001 mm) "
+                  "and report the distance and energy gap to it (JSON distance_to_minimum, the table's To min. rows, "
+                  "--frames-dir columns): what the residual estimates, measured; a reference solve per sampled "
+                  "frame; 0: off (config key minimum_every)")
+      ->check(CLI::NonNegativeNumber);
   cmd->add_option("--device", args->device, "Where the network runs: cpu | cuda | cuda:N (metrics stay on the CPU)");
   cmd->callback([args, &global] {
     apply_global_options(global);
@@ -68,6 +75,7 @@ void add_evaluate_command(CLI::App& app, const GlobalOptions& global) {
     if (!args->frames_dir.empty()) sets.push_back("frames_dir=" + args->frames_dir);
     if (!args->start.empty()) sets.push_back("start=" + args->start);
     if (args->refine >= 0) sets.push_back("refine.iterations=" + std::to_string(args->refine));
+    if (args->minimum_every >= 0) sets.push_back("minimum_every=" + std::to_string(args->minimum_every));
     if (args->refine_tolerance >= 0) sets.push_back(fmt::format("refine.tolerance_mm={}", args->refine_tolerance));
     const EvalConfig config = load_config<EvalConfig>(args->config, sets);
     std::vector<ModelFile> files;

@@ -98,11 +98,11 @@ void add_simulate_command(CLI::App& app, const GlobalOptions& global) {
                                                                    r.residual_mm_max)
                                                      : std::string("residual not measured (outputs.residual off)");
     std::string minimum;
-    if (r.minimum_frames > 0)
+    if (r.minimum.frames > 0)
       minimum = fmt::format("; distance to the minimum on {} sampled frames median {:.3g} mm, max {:.3g} mm "
                             "(energy gap median {:.3g} J)",
-                            r.minimum_frames, r.minimum_distance_median, r.minimum_distance_max,
-                            r.minimum_gap_median);
+                            r.minimum.frames, r.minimum.distance_median_mm, r.minimum.distance_max_mm,
+                            r.minimum.gap_median_j);
     spdlog::info("{} frames: positive energy mean {:.4g} J, max {:.4g} J{}; {}{}; {:.1f} ms per frame ({}); {} files in {}",
                  r.frames - 1, r.positive_mean, r.positive_max, inside, residual, minimum, r.step_ms_mean,
                  model ? (scene.refine.enabled() || model->config.refines() ? "network step + refinement"

@@ -44,6 +44,7 @@ struct Run {
 BenchRow run_one(const Run& run, const RolloutInput& body_input, const RolloutInput& free_input,
                  const GarmentTopology& topology, const BenchConfig& config) {
   RolloutInput in = run.with_body ? body_input : free_input;  // a copy: it carries this run's step log
+  in.minimum_every = config.minimum_every;
   PhysicsConfig physics = config.physics;
   StepFunction step;
   auto step_log = std::make_shared<ContactStepLog>();
@@ -88,6 +89,8 @@ BenchRow run_one(const Run& run, const RolloutInput& body_input, const RolloutIn
   row.physics_loss = mean.total;
   row.terms = mean.terms;
   row.positive_loss = positive_energy(mean);
+  row.residual_mm_median = median_residual_mm(r.reports);
+  row.minimum = summarize_minimum(r.reports);
   if (!r.penetration.empty()) row.penetration = summarize_penetration(r.penetration);
   return row;
 }

@@ -37,7 +37,8 @@ std::string format_bench_details_csv(const BenchResult& result) {
   out << "level,triangles,vertices,method,family,K,iterations,threads,latency_ms_median,latency_ms_min,"
          "physics_loss,positive_loss";
   for (const char* t : kTerms) out << ',' << t;
-  out << ",frames,diverged,diverged_at_frame,penetrating_fraction,max_penetrating_fraction,max_penetration_mm\n";
+  out << ",frames,diverged,diverged_at_frame,penetrating_fraction,max_penetrating_fraction,max_penetration_mm,"
+         "residual_mm_median,distance_to_minimum_mm_median,distance_to_minimum_mm_max,energy_gap_j_median\n";
   for (const auto& r : result.rows) {
     out << r.level << ',' << r.triangles << ',' << r.vertices << ',' << csv_field(r.method) << ',' << r.family
         << ',' << r.K << ',' << r.iterations << ',' << r.threads << ',' << csv_number(r.latency_ms_median) << ','
@@ -53,6 +54,10 @@ std::string format_bench_details_csv(const BenchResult& result) {
                                              &PenetrationSummary::max_penetrating_fraction,
                                              &PenetrationSummary::max_penetration_mm})
       out << ',' << (r.penetration ? csv_number((*r.penetration).*field) : std::string());
+    out << ',' << csv_number(r.residual_mm_median);
+    for (double MinimumSummary::*field : {&MinimumSummary::distance_median_mm, &MinimumSummary::distance_max_mm,
+                                          &MinimumSummary::gap_median_j})
+      out << ',' << (r.minimum.frames > 0 ? csv_number(r.minimum.*field) : std::string());
     out << '\n';
   }
   return out.str();
@@ -103,7 +108,8 @@ double latency_exponent(const std::vector<BenchRow>& rows, const std::string& me
 std::string format_bench_table(const BenchResult& result) {
   std::ostringstream out;
   out << "Accuracy vs time (" << result.device << ", " << result.threads << " torch threads, BLAS "
-      << result.blas_core << "); latency per frame after warm-up, loss = mean physics energy per frame (J)\n";
+      << result.blas_core << "); latency per frame after warm-up, loss = mean physics energy per frame (J);\n"
+         "residual mm = median over frames of the step's residual (how far from the energy's minimum, one Newton step)\n";
   std::vector<int> levels;
   for (const auto& r : result.rows)
     if (std::find(levels.begin(), levels.end(), r.level) == levels.end()) levels.push_back(r.level);
@@ -112,6 +118,11 @@ std::string format_bench_table(const BenchResult& result) {
     if (std::find(methods.begin(), methods.end(), r.method) == methods.end()) methods.push_back(r.method);
   size_t w = 8;
   for (const auto& m : methods) w = std::max(w, m.size());
+  bool sampled = false;  // minimum_every: the median distance to the minimum per row
+  for (const auto& r : result.rows) sampled = sampled || r.minimum.frames > 0;
+  if (sampled)
+    out << "to min. mm = median over the frames sampled with minimum_every of the largest vertex move from the\n"
+           "step to the minimum the solver reaches from it\n";
   char line[256];
   for (int level : levels) {
     const BenchRow* first = nullptr;
@@ -120,17 +131,22 @@ std::string format_bench_table(const BenchResult& result) {
         first = first ? first : &r;
       }
     out << "\nLv." << level << "  (" << first->triangles << " triangles, " << first->vertices << " vertices)\n";
-    std::snprintf(line, sizeof line, "  %-*s %4s %12s %12s %12s %12s\n", int(w), "method", "K", "median ms",
-                  "min ms", "total J", "positive J");
+    std::snprintf(line, sizeof line, "  %-*s %4s %12s %12s %12s %12s %12s%s\n", int(w), "method", "K", "median ms",
+                  "min ms", "total J", "positive J", "residual mm", sampled ? "   to min. mm" : "");
     out << line;
     for (const auto& r : result.rows) {
       if (r.level != level) continue;
       std::string note = r.diverged ? "  diverged at frame " + std::to_string(r.diverged_at_frame) : "";
-      std::snprintf(line, sizeof line, "  %-*s %4lld %12s %12s %12s %12s%s\n", int(w), r.method.c_str(),
+      char to_minimum[32] = "";
+      if (sampled)
+        std::snprintf(to_minimum, sizeof to_minimum, " %12s",
+                      r.minimum.frames > 0 ? fixed(r.minimum.distance_median_mm, 2).c_str() : "n/a");
+      std::snprintf(line, sizeof line, "  %-*s %4lld %12s %12s %12s %12s %12s%s%s\n", int(w), r.method.c_str(),
                     static_cast<long long>(r.K), fixed(r.latency_ms_median, 1).c_str(),
                     fixed(r.latency_ms_min, 1).c_str(), scientific(r.physics_loss, 3).c_str(),
                     scientific(r.positive_loss, 3).c_str(),
-                    note.c_str());
+                    std::isfinite(r.residual_mm_median) ? scientific(r.residual_mm_median, 2).c_str() : "n/a",
+                    to_minimum, note.c_str());
       out << line;
     }
   }

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <map>
 #include <sstream>
@@ -190,6 +191,7 @@ RolloutInput sequence_input(const EvalConfig& config, const Effects& effects, co
     hold_pins_free_of_body(in);
   }
   in.divergence = config.divergence;
+  in.minimum_every = config.minimum_every;
   return in;
 }
 
@@ -240,6 +242,7 @@ SequenceResult sequence_result(const Sequence& s, const RolloutResult& r) {
   q.positive_energy = positive_energy(*q.mean);
   q.max_positive_energy = positive_energy_range(r.reports).max;
   q.median_residual_mm = median_residual_mm(r.reports);
+  q.minimum = summarize_minimum(r.reports);
   if (!r.penetration.empty()) q.penetration = summarize_penetration(r.penetration);
   return q;
 }
@@ -310,6 +313,7 @@ std::vector<LevelResult> evaluate(const EvalConfig& config, const std::vector<Ev
       auto t0 = std::chrono::steady_clock::now();
       std::vector<double> step_ms;  // every frame's contact query + step
       std::vector<double> residual_mm;  // every frame's residual where measured
+      std::vector<EnergyReport> sampled;  // every frame sampled for its minimum
       for (size_t si = 0; si < sequences.size(); ++si) {
         const Sequence& s = sequences[si];
         const Garment& garment = *s.garment;
@@ -354,6 +358,8 @@ std::vector<LevelResult> evaluate(const EvalConfig& config, const std::vector<Ev
           step_ms.push_back(r.step_ms[f] + r.contact_ms[f]);
         const std::vector<double> measured_mm = measured_residuals_mm(r.reports);
         residual_mm.insert(residual_mm.end(), measured_mm.begin(), measured_mm.end());
+        for (const EnergyReport& e : r.reports)
+          if (std::isfinite(e.minimum_distance_mm)) sampled.push_back(e);
         bar.step(std::max<int64_t>(in.steps - frames_done, 0), status);  // a rollout the guard stopped
         SequenceResult q = sequence_result(s, r);
         if (!config.frames_dir.empty())
@@ -389,6 +395,7 @@ std::vector<LevelResult> evaluate(const EvalConfig& config, const std::vector<Ev
       mr.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       mr.step_ms = median(step_ms);
       mr.median_residual_mm = median(residual_mm);
+      mr.minimum = summarize_minimum(sampled);
       if (!sequence_means.empty()) mr.mean = mean_report(sequence_means);
       if (!sequence_penetration.empty()) mr.penetration = summarize_penetration(sequence_penetration);
       if (lr.K == 0 && method.model && method.model->config.is_pb4u()) lr.K = mr.K;
@@ -407,7 +414,7 @@ std::vector<LevelResult> evaluate(const EvalConfig& config, const std::vector<Ev
 
 std::string format_table(const std::vector<LevelResult>& levels) {
   std::ostringstream out;
-  bool any_penetration = false;
+  bool any_penetration = false, any_minimum = false;
   for (const auto& lr : levels) {
     out << "Lv." << lr.level << "  (" << lr.triangles << " triangles, " << lr.vertices << " vertices, K = "
         << lr.K << ")\n";
@@ -447,6 +454,26 @@ std::string format_table(const std::vector<LevelResult>& levels) {
       out << std::string(widths[i] - std::min(widths[i], cell.size()), ' ') << cell;
     }
     out << "\n";
+    bool sampled = false;
+    for (const auto& m : lr.methods) sampled = sampled || m.minimum.frames > 0;
+    if (sampled) {
+      any_minimum = true;
+      const std::pair<const char*, double MinimumSummary::*> minimum_rows[] = {
+          {"To min. mm", &MinimumSummary::distance_median_mm},
+          {"To min. max", &MinimumSummary::distance_max_mm},
+          {"Gap to min. J", &MinimumSummary::gap_median_j}};
+      for (const auto& [label, field] : minimum_rows) {
+        out << label << std::string(w0 - std::min(w0, std::strlen(label)), ' ');
+        for (size_t i = 0; i < lr.methods.size(); ++i) {
+          const double v = lr.methods[i].minimum.*field;
+          const std::string cell = !std::isfinite(v) ? "n/a " : field == &MinimumSummary::gap_median_j
+                                                                    ? scientific(v, 2) + " "
+                                                                    : fixed(v, 2) + " ";
+          out << std::string(widths[i] - std::min(widths[i], cell.size()), ' ') << cell;
+        }
+        out << "\n";
+      }
+    }
     for (const auto& m : lr.methods) {
       if (m.diverged)
         out << "  " << m.name << ": diverged at frame " << m.diverged_at_frame << " (" << m.diverged_sequence
@@ -456,6 +483,10 @@ std::string format_table(const std::vector<LevelResult>& levels) {
   }
   out << "* lowest value in the row. Energies in J, per frame, averaged over frames and sequences. Step ms: the\n"
          "median over frames of one step's wall time (body contact query and step, measuring not included).\n";
+  if (any_minimum)
+    out << "To min.: on the frames sampled with minimum_every, the largest vertex move from the step to the\n"
+           "energy's minimum the solver reaches from it (mm; median over the frames, and max); Gap to min. J:\n"
+           "how much lower the energy is there (median).\n";
   if (any_penetration)
     out << "Inside %: garment vertices inside the body, mean over frames and sequences (max: worst frame);\n"
            "Depth max mm: the deepest garment vertex on any frame; Edges thru: cloth edges through a body\n"
@@ -486,6 +517,11 @@ std::string format_csv(const std::vector<LevelResult>& levels) {
       };
       for (const auto& row : level_rows(lr)) line(row, value_of(m, row));
       line("step_ms", std::isfinite(m.step_ms) ? std::optional<double>(m.step_ms) : std::nullopt);
+      if (m.minimum.frames > 0) {
+        line("distance_to_minimum_mm_median", m.minimum.distance_median_mm);
+        line("distance_to_minimum_mm_max", m.minimum.distance_max_mm);
+        line("energy_gap_j_median", m.minimum.gap_median_j);
+      }
     }
   return out.str();
 }
@@ -519,6 +555,16 @@ void eval_add_divergence(EvalJson& out, bool diverged, int at_frame, const std::
   if (diverged) out["diverged_reason"] = reason;
 }
 
+// With frames sampled for their minimum (minimum_every): "distance_to_minimum": how many, the
+// median and largest distance (mm) and the median energy gap (J).
+void eval_add_minimum(EvalJson& out, const MinimumSummary& minimum) {
+  if (minimum.frames == 0) return;
+  out["distance_to_minimum"] = {{"frames", minimum.frames},
+                                {"median_mm", eval_json_figure(minimum.distance_median_mm)},
+                                {"max_mm", eval_json_figure(minimum.distance_max_mm)},
+                                {"median_energy_gap_j", eval_json_figure(minimum.gap_median_j)}};
+}
+
 EvalJson eval_json_sequence(const SequenceResult& q, const std::vector<std::string>& rows) {
   EvalJson out = EvalJson::object();
   out["body"] = q.body;
@@ -529,6 +575,7 @@ EvalJson eval_json_sequence(const SequenceResult& q, const std::vector<std::stri
   out["positive_energy"] = eval_json_figure(q.positive_energy);
   out["max_positive_energy"] = eval_json_figure(q.max_positive_energy);
   out["median_residual_mm"] = eval_json_figure(q.median_residual_mm);
+  eval_add_minimum(out, q.minimum);
   eval_add_divergence(out, q.diverged, q.diverged_at_frame, q.diverged_reason);
   return out;
 }
@@ -551,6 +598,7 @@ std::string format_json(const std::vector<LevelResult>& levels) {
       method["frames"] = m.frames;
       method["step_ms"] = eval_json_figure(m.step_ms);
       method["median_residual_mm"] = eval_json_figure(m.median_residual_mm);
+      eval_add_minimum(method, m.minimum);
       eval_add_divergence(method, m.diverged, m.diverged_at_frame, m.diverged_reason);
       methods[m.name] = std::move(method);
     }

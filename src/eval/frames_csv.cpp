@@ -1,6 +1,7 @@
 #include "pb4u/eval/frames_csv.h"
 
 #include <cctype>
+#include <cmath>
 #include <filesystem>
 #include <iomanip>
 #include <limits>
@@ -21,10 +22,13 @@ void write_frames_csv(const std::string& path, const RolloutResult& r, const std
   std::ostream& out = file.stream();
   out << std::setprecision(std::numeric_limits<double>::max_digits10);
   const bool body = !r.penetration.empty();
+  bool sampled = false;  // frames solved on to their minimum (RolloutInput::minimum_every)
+  for (const EnergyReport& e : r.reports) sampled = sampled || std::isfinite(e.minimum_distance_mm);
   out << "frame";
   if (!r.reports.empty())
     for (const auto& [name, value] : r.reports.front().terms) out << ',' << name;
   out << ",total,positive,residual_mm";
+  if (sampled) out << ",distance_to_minimum_mm,energy_gap_j";
   if (body) out << ",penetrating_fraction,max_penetration_mm,edges_through_body,body_self_crossing_faces";
   if (contact) out << ",contact_excluded,caught_by_body,body_lag_mm";
   out << '\n';
@@ -33,6 +37,7 @@ void write_frames_csv(const std::string& path, const RolloutResult& r, const std
     out << f + 1;
     for (const auto& [name, value] : e.terms) out << ',' << value;
     out << ',' << e.total << ',' << positive_energy(e) << ',' << e.residual_mm;
+    if (sampled) out << ',' << e.minimum_distance_mm << ',' << e.minimum_gap_j;
     if (body) {
       const PenetrationFigures& p = r.penetration[f];
       out << ',' << p.penetrating_fraction << ',' << p.max_penetration_mm << ',' << p.edges_through << ','

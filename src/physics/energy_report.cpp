@@ -103,4 +103,20 @@ std::vector<double> measured_residuals_mm(const std::vector<EnergyReport>& repor
 
 double median_residual_mm(const std::vector<EnergyReport>& reports) { return median(measured_residuals_mm(reports)); }
 
+MinimumSummary summarize_minimum(const std::vector<EnergyReport>& reports) {
+  std::vector<double> distances, gaps;
+  for (const auto& report : reports)
+    if (std::isfinite(report.minimum_distance_mm)) {
+      distances.push_back(report.minimum_distance_mm);
+      gaps.push_back(report.minimum_gap_j);
+    }
+  MinimumSummary s;
+  s.frames = int(distances.size());
+  if (distances.empty()) return s;
+  s.distance_median_mm = median(distances);
+  s.distance_max_mm = *std::max_element(distances.begin(), distances.end());
+  s.gap_median_j = median(gaps);
+  return s;
+}
+
 }  // namespace pb4u

@@ -175,18 +175,7 @@ SimulateResult simulate(const SceneConfig& scene, const std::string& scene_path,
     result.residual_mm_mean += report.residual_mm / r.reports.size();
     result.residual_mm_max = std::max(result.residual_mm_max, report.residual_mm);
   }
-  std::vector<double> distances, gaps;
-  for (const EnergyReport& report : r.reports)
-    if (std::isfinite(report.minimum_distance_mm)) {
-      distances.push_back(report.minimum_distance_mm);
-      gaps.push_back(report.minimum_gap_j);
-    }
-  result.minimum_frames = int(distances.size());
-  if (!distances.empty()) {
-    result.minimum_distance_median = median(distances);
-    result.minimum_distance_max = *std::max_element(distances.begin(), distances.end());
-    result.minimum_gap_median = median(gaps);
-  }
+  result.minimum = summarize_minimum(r.reports);
   if (scene.outputs.plot && scene.outputs.energies_csv && writer.num_frames() > 1)
     plot_energies(out_dir + "/energies.csv", out_dir + "/energies.png", &result.files);
   if (scene.outputs.preview && writer.num_frames() > 0) {

@@ -319,6 +319,59 @@ TEST(Evaluate, FramesDirHoldsEveryFrameOfEveryRollout) {
   }
 }
 
+// --minimum-every N: every N-th frame of every rollout solved on to its minimum, its distance
+// and energy gap in the frames CSV, and their median and largest in the JSON and the table.
+TEST(Evaluate, MinimumEverySamplesFramesIntoTheFramesCsvTheJsonAndTheTable) {
+  const std::string dir = test::temp_dir("eval_minimum");
+  const std::string args = "-q evaluate --checkpoint " + tiny_checkpoint() + " --config " + kSource +
+                           "/configs/eval/tiny.yaml --set dataset=" + test::tiny_dataset() +
+                           " --set levels=[1] --set max_sequences=1 --set max_frames=4 ";
+  auto r = test::run_pb4u(args + "--minimum-every 2 --format json --frames-dir " + dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto methods = nlohmann::json::parse(r.out).at("levels")[0].at("methods");
+  ASSERT_EQ(methods.size(), 1u);
+  const auto& method = methods.begin().value();
+  std::vector<double> distances;
+  for (const auto& q : method.at("sequences")) {
+    const auto rows = read_csv(dir + "/lv1/" + file_name_from(methods.begin().key()) + "/" +
+                               file_name_from(q.at("garment").get<std::string>() + "_" +
+                                              q.at("motion").get<std::string>() + "_" +
+                                              q.at("body").get<std::string>()) +
+                               ".csv");
+    ASSERT_EQ(rows.size(), 5u);  // the header and frames 1-4
+    const size_t d = std::find(rows[0].begin(), rows[0].end(), "distance_to_minimum_mm") - rows[0].begin();
+    const size_t g = std::find(rows[0].begin(), rows[0].end(), "energy_gap_j") - rows[0].begin();
+    ASSERT_LT(d, rows[0].size());
+    ASSERT_LT(g, rows[0].size());
+    std::vector<double> sampled;
+    for (size_t f = 1; f <= 4; ++f) {
+      const double distance = std::stod(rows[f][d]), gap = std::stod(rows[f][g]);
+      if (f % 2 == 1) {
+        EXPECT_TRUE(std::isnan(distance) && std::isnan(gap)) << f;
+        continue;
+      }
+      EXPECT_GT(distance, 0.1) << f;  // mm: the untrained network's step is not at its minimum
+      EXPECT_GT(gap, 0.0) << f;       // J: lower there
+      sampled.push_back(distance);
+    }
+    const auto& m = q.at("distance_to_minimum");
+    EXPECT_EQ(m.at("frames").get<int>(), 2);
+    EXPECT_NEAR(m.at("median_mm").get<double>(), median(sampled), 1e-7 * median(sampled));
+    EXPECT_NEAR(m.at("max_mm").get<double>(), std::max(sampled[0], sampled[1]), 1e-7 * sampled[1]);
+    distances.insert(distances.end(), sampled.begin(), sampled.end());
+  }
+  EXPECT_EQ(method.at("distance_to_minimum").at("frames").get<size_t>(), distances.size());
+  EXPECT_NEAR(method.at("distance_to_minimum").at("median_mm").get<double>(), median(distances),
+              1e-7 * median(distances));
+  r = test::run_pb4u(args + "--minimum-every 4");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("To min. mm"), std::string::npos) << r.out;
+  // Off (the default): neither the key nor the rows.
+  r = test::run_pb4u(args + "--format json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.out.find("distance_to_minimum"), std::string::npos);
+}
+
 TEST(Evaluate, WithoutGravityTheTermIsAbsent) {
   const ModelFile m = load_model_file(tiny_checkpoint());
   auto levels = evaluate(tiny_eval({"effects=[collision, friction]", "levels=[1]", "max_frames=2"}), {{"Pb4U", &m}});

@@ -6,6 +6,7 @@
 // mean per frame; total and positive part) and the per-frame latency (median and min over the
 // frames after warm-up). A per-stage breakdown of one frame shows where the time goes, and a
 // variant without a body shows what skipping world edges and contact saves.
+#include <cmath>
 #include <functional>
 #include <optional>
 #include <string>
@@ -15,6 +16,7 @@
 #include "pb4u/eval/blender_cloth.h"
 #include "pb4u/rollout/divergence_guard.h"
 #include "pb4u/scene/material.h"
+#include "pb4u/physics/energy_report.h"
 #include "pb4u/physics/penetration.h"
 #include "pb4u/physics/physics_config.h"
 
@@ -60,6 +62,10 @@ struct BenchConfig {
   Material material;      // the evaluation material (SPEC 2 defaults)
   PhysicsConfig physics;  // solver defaults; the budget is overridden per run
   DivergenceConfig divergence;  // when a run stops as diverged
+  // > 0: every minimum_every-th frame of each pb4u run (not Blender's), its step solved on to
+  // the energy's minimum (to 0.001 mm, from the step where it stands): the distance and energy
+  // gap beside the residual in bench_details.csv and the table. Outside the timed step.
+  int minimum_every = 0;
   // Blender's cloth per level (scripts/blender_cloth.py), scored with pb4u's terms; skipped
   // with one log line when Blender is not found (enabled: auto).
   BlenderConfig blender;
@@ -92,6 +98,7 @@ struct BenchConfig {
     v("physics", physics);
     v("divergence", divergence);
     v("blender", blender);
+    v("minimum_every", minimum_every, int_at_least(0));
   }
 };
 
@@ -112,6 +119,10 @@ struct BenchRow {
   bool diverged = false;
   int diverged_at_frame = -1;
   std::optional<PenetrationSummary> penetration;  // with a body
+  // mm: the median over the frames of the step's residual (EnergyReport::residual_mm; NaN where
+  // not measured, as on Blender's rows), and the frames sampled with minimum_every.
+  double residual_mm_median = NAN;
+  MinimumSummary minimum;
 };
 
 // Median wall time (ms) of each stage of one network frame at one level.

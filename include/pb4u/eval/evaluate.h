@@ -68,6 +68,10 @@ struct EvalConfig {
   // When set, every rollout's frames as CSV (eval/frames_csv.h):
   // <frames_dir>/lv<level>/<method>/<garment>_<motion>_<body>.csv.
   std::string frames_dir;
+  // > 0: every minimum_every-th frame of every rollout, its step solved on to the energy's
+  // minimum (to 0.001 mm, from the step where it stands): the distance (mm) and energy gap (J)
+  // the residual estimates, measured (RolloutInput::minimum_every). A reference solve a sampled frame.
+  int minimum_every = 0;
 
   template <class V>
   void visit(V& v) {
@@ -92,6 +96,7 @@ struct EvalConfig {
     v("passes", passes);
     v("preview", preview);
     v("frames_dir", frames_dir);
+    v("minimum_every", minimum_every, int_at_least(0));
   }
 };
 
@@ -106,6 +111,7 @@ struct SequenceResult {
   // not measured. A solve can end far from its minimum on a rare frame (a 1e7 mm residual), and
   // such a frame sets the mean alone; the median reads the typical frame.
   double median_residual_mm = NAN;
+  MinimumSummary minimum;  // the frames sampled with minimum_every (none: frames 0)
   std::optional<PenetrationSummary> penetration;  // with a body (and a measured frame)
   bool diverged = false;
   int diverged_at_frame = -1;
@@ -132,6 +138,7 @@ struct MethodResult {
   // mm: the median over every frame of every sequence of the step's residual (NaN where none was
   // measured); beside the mean, which a rare frame far from the minimum can set alone.
   double median_residual_mm = NAN;
+  MinimumSummary minimum;  // over the sampled frames of every sequence (minimum_every)
 };
 
 struct LevelResult {

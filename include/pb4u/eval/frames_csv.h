@@ -10,7 +10,9 @@
 namespace pb4u {
 
 // One row per measured frame (1..): each energy term (J), total, positive (stretch + bending +
-// collision), residual_mm (nan where not measured) and, when the rollout had a body,
+// collision), residual_mm (nan where not measured), where frames were sampled for their
+// minimum (minimum_every) distance_to_minimum_mm and energy_gap_j (nan on the others), and, when
+// the rollout had a body,
 // penetrating_fraction, max_penetration_mm, edges_through_body and body_self_crossing_faces
 // (the body's faces inside another part of it: > 0 where it crosses itself); with `contact` (one per
 // frame, the barrier solve's account), also contact_excluded, caught_by_body and body_lag_mm,

@@ -64,6 +64,16 @@ PositiveEnergyRange positive_energy_range(const std::vector<EnergyReport>& repor
 // their median (NaN where none was).
 std::vector<double> measured_residuals_mm(const std::vector<EnergyReport>& reports);
 double median_residual_mm(const std::vector<EnergyReport>& reports);
+// The frames sampled for their minimum (EnergyReport::minimum_distance_mm and minimum_gap_j):
+// how many, the median and largest distance (mm) and the median energy gap (J) over them; NaN
+// where no frame was sampled.
+struct MinimumSummary {
+  int frames = 0;
+  double distance_median_mm = std::numeric_limits<double>::quiet_NaN();
+  double distance_max_mm = std::numeric_limits<double>::quiet_NaN();
+  double gap_median_j = std::numeric_limits<double>::quiet_NaN();
+};
+MinimumSummary summarize_minimum(const std::vector<EnergyReport>& reports);
 // Whether the term called `name` counts towards the positive energy.
 bool is_positive_term(const std::string& name);
 

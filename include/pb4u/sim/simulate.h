@@ -32,8 +32,7 @@ struct SimulateResult {
   bool residual_measured = true;                      // false with outputs.residual off
   // outputs.minimum_every: the sampled frames, and over them the median and largest distance to
   // the minimum (mm) and the median energy gap (J).
-  int minimum_frames = 0;
-  double minimum_distance_median = 0, minimum_distance_max = 0, minimum_gap_median = 0;
+  MinimumSummary minimum;
   int own_start_frames = 0;  // refined frames started from the solver's own start (RolloutResult)
   // The intersection-free reference solver (solver.contact = barrier, with a body): frames that
   // left cloth out of barrier contact, and the most vertices one frame left out.
