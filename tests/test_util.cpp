@@ -73,14 +73,26 @@ CommandResult run_pb4u(const std::string& args) {
   return r;
 }
 
+namespace {
+
+// configs/data/<name>.yaml generated with the real `pb4u generate` into a fresh folder.
+std::string generated_dataset(const std::string& name) {
+  std::string dir = temp_dir(name + "data");
+  CommandResult r = run_pb4u("-q generate --config " + std::string(PB4U_SOURCE_DIR) + "/configs/data/" + name +
+                             ".yaml --out " + dir);
+  if (r.exit_code != 0) throw std::runtime_error(name + " dataset: " + r.err);
+  return dir + "/" + name + ".h5";
+}
+
+}  // namespace
+
 const std::string& tiny_dataset() {
-  static const std::string path = [] {
-    std::string dir = temp_dir("tinydata");
-    CommandResult r = run_pb4u("-q generate --config " + std::string(PB4U_SOURCE_DIR) +
-                               "/configs/data/tiny.yaml --out " + dir);
-    if (r.exit_code != 0) throw std::runtime_error("tiny dataset: " + r.err);
-    return dir + "/tiny.h5";
-  }();
+  static const std::string path = generated_dataset("tiny");
+  return path;
+}
+
+const std::string& hard_dataset() {
+  static const std::string path = generated_dataset("hard");
   return path;
 }
 

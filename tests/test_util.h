@@ -27,6 +27,9 @@ CommandResult run_pb4u(const std::string& args);
 // configs/data/tiny.yaml generated with the real `pb4u generate`, once per test process;
 // returns the dataset file.
 const std::string& tiny_dataset();
+// configs/data/hard.yaml likewise (seconds): the quick dataset's mannequin and its t-shirt at
+// the training resolution, for the hard cases with a body.
+const std::string& hard_dataset();
 
 // An n x n grid of unit squares split into 2 n^2 triangles, in the xz plane at y = 0.
 TriMesh grid_mesh(int n, double size = 1.0);

@@ -102,15 +102,16 @@ TEST_F(HardCases, HangingAtHalfTheTrainingEdge) {
 }
 
 // The t-shirt of the tiny dataset on its mannequin doing a procedural motion.
-SceneConfig body_scene(const std::string& motion, double speed, double amplitude, int frames) {
+SceneConfig body_scene(const std::string& motion, double speed, double amplitude, int frames,
+                       const std::string& dataset = test::tiny_dataset()) {
   SceneConfig s;
   s.frames = frames;
   s.effects = {"gravity", "collision", "friction"};
   s.garment.source = "template";
-  s.garment.dataset = test::tiny_dataset();
+  s.garment.dataset = dataset;
   s.garment.name = "tshirt";
   s.garment.level = 1;
-  s.body.dataset = test::tiny_dataset();
+  s.body.dataset = dataset;
   s.body.name = "mannequin";
   s.body.motion = "procedural:" + motion;
   s.body.speed = speed;
@@ -143,6 +144,22 @@ TEST_F(HardCases, SpinAtTwoTurnsPerSecondSettledAndRiding) {
 TEST_F(HardCases, FastJump) {
   SceneConfig s = body_scene("jump", 2.0, 1.3, 18 * hard::scale());  // a jump every 0.6 s, deep crouch
   check_methods("jump", scene_rollout_input(s, build_scene(s, "jump")), {kNoBlowUp}, s.physics);
+}
+
+// The spin and the jump on a t-shirt at the training resolution (configs/data/hard.yaml: the
+// quick dataset's mannequin, 2949 vertices, and its level-1 t-shirt, 1961 triangles, 23 mm
+// edges), under every default. The tiny t-shirt above (115 vertices, 50-140 mm edges, on a
+// 400-vertex mannequin) cannot follow the armpit and the shoulders at these speeds: its cases
+// are known gaps (tests/hard/known_gaps.txt).
+TEST_F(HardCases, SpinAtTwoTurnsPerSecondAtTheTrainingEdge) {
+  SceneConfig s = body_scene("spin", 4.0, 1.0, 15 * hard::scale(), test::hard_dataset());
+  check_methods("spin 2 turns/s, training edge", scene_rollout_input(s, build_scene(s, "spin")), {kNoBlowUp},
+                s.physics);
+}
+
+TEST_F(HardCases, FastJumpAtTheTrainingEdge) {
+  SceneConfig s = body_scene("jump", 2.0, 1.3, 18 * hard::scale(), test::hard_dataset());
+  check_methods("jump, training edge", scene_rollout_input(s, build_scene(s, "jump")), {kNoBlowUp}, s.physics);
 }
 
 TEST_F(HardCases, ExtremeMaterials) {
