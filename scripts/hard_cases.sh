@@ -6,7 +6,8 @@
 #                                                     its 6, the held-out skirt its motion's 10) and
 #                                                     lattices SCALE times the vertices a side (finer
 #                                                     where a case divides the edge); the body cases
-#                                                     keep the tiny dataset's level-1 garments
+#                                                     keep their garments (the tiny dataset's level
+#                                                     1; *AtTheTrainingEdge: configs/data/hard.yaml)
 #   scripts/hard_cases.sh --known-gaps [SCALE=1]      the cases that miss their bounds today (the
 #                                                     reference solver or the refined network;
 #                                                     tests/hard/known_gaps.txt; ctest leaves them
