@@ -101,7 +101,8 @@ TEST_F(HardCases, HangingAtHalfTheTrainingEdge) {
   hard::check_shipped("hanging at Lbar_base/2", in, topology, {}, reference, {}, mean_only);
 }
 
-// The t-shirt of the tiny dataset on its mannequin doing a procedural motion.
+// The level-1 t-shirt of `dataset` (the tiny one unless given) on its mannequin doing a procedural
+// motion.
 SceneConfig body_scene(const std::string& motion, double speed, double amplitude, int frames,
                        const std::string& dataset = test::tiny_dataset()) {
   SceneConfig s;
