@@ -3,7 +3,7 @@
 #include <algorithm>
 
 #include "pb4u/mesh/edges.h"
-#include "pb4u/spatial/point_kd_tree.h"
+#include "pb4u/spatial/box_grid.h"
 
 namespace pb4u {
 namespace {
@@ -34,14 +34,13 @@ double largest_row_norm(const Eigen::MatrixXd& M) {
 
 }  // namespace
 
-// KD-trees over a surface's face centroids and edge midpoints at positions V, with the largest
-// distance from a centroid to its face's corners and from a midpoint to its edge's ends.
+// Grids over a surface's face and edge boxes at positions V (spatial/box_grid.h), with the face
+// centroids and edge midpoints and the largest distance from a centroid to its face's corners
+// and from a midpoint to its edge's ends.
 struct SurfaceIndex {
-  Eigen::MatrixXd V;
-  PointKdTree faces, edges;
+  Eigen::MatrixXd V, centroid, midpoint;
+  BoxGrid faces, edges;
   double face_reach = 0, edge_half = 0;
-  SurfaceIndex(const Eigen::MatrixXd& V, PointKdTree faces, PointKdTree edges, double face_reach, double edge_half)
-      : V(V), faces(std::move(faces)), edges(std::move(edges)), face_reach(face_reach), edge_half(edge_half) {}
 };
 
 namespace {
@@ -50,22 +49,33 @@ namespace {
 const SurfaceIndex& surface_index(const ContactSurface& body) {
   if (body.index && body.index->V.rows() == body.V.rows() && body.index->V == body.V) return *body.index;
   const Eigen::Index mb = body.F.rows(), eb = body.E.rows();
+  auto index = std::make_shared<SurfaceIndex>();
+  index->V = body.V;
   // A point within r of a face is within r + (the face's circumradius about its centroid) of
   // the centroid; likewise for edges and midpoints.
-  Eigen::MatrixXd centroid(mb, 3);
-  double face_reach = 0;
+  index->centroid.resize(mb, 3);
+  Eigen::MatrixXd lo(mb, 3), hi(mb, 3);
   for (Eigen::Index f = 0; f < mb; ++f) {
-    centroid.row(f) = (body.V.row(body.F(f, 0)) + body.V.row(body.F(f, 1)) + body.V.row(body.F(f, 2))) / 3;
-    for (int k = 0; k < 3; ++k) face_reach = std::max(face_reach, (body.V.row(body.F(f, k)) - centroid.row(f)).norm());
+    const auto a = body.V.row(body.F(f, 0)), b = body.V.row(body.F(f, 1)), c = body.V.row(body.F(f, 2));
+    index->centroid.row(f) = (a + b + c) / 3;
+    lo.row(f) = a.cwiseMin(b).cwiseMin(c);
+    hi.row(f) = a.cwiseMax(b).cwiseMax(c);
+    for (int k = 0; k < 3; ++k)
+      index->face_reach = std::max(index->face_reach, (body.V.row(body.F(f, k)) - index->centroid.row(f)).norm());
   }
-  Eigen::MatrixXd midpoint(eb, 3);
-  double edge_half = 0;
+  index->faces = BoxGrid(lo, hi);
+  index->midpoint.resize(eb, 3);
+  lo.resize(eb, 3);
+  hi.resize(eb, 3);
   for (Eigen::Index e = 0; e < eb; ++e) {
-    midpoint.row(e) = (body.V.row(body.E(e, 0)) + body.V.row(body.E(e, 1))) / 2;
-    edge_half = std::max(edge_half, (body.V.row(body.E(e, 0)) - midpoint.row(e)).norm());
+    const auto a = body.V.row(body.E(e, 0)), b = body.V.row(body.E(e, 1));
+    index->midpoint.row(e) = (a + b) / 2;
+    lo.row(e) = a.cwiseMin(b);
+    hi.row(e) = a.cwiseMax(b);
+    index->edge_half = std::max(index->edge_half, (a - index->midpoint.row(e)).norm());
   }
-  body.index = std::make_shared<const SurfaceIndex>(body.V, PointKdTree(centroid), PointKdTree(midpoint), face_reach,
-                                                    edge_half);
+  index->edges = BoxGrid(lo, hi);
+  body.index = std::move(index);
   return *body.index;
 }
 
@@ -84,19 +94,29 @@ ContactCandidates contact_candidates(const Eigen::MatrixXd& x, const Eigen::Matr
   const double body_step = largest_row_norm(body_motion);
   const Eigen::VectorXd step = dx.rows() ? Eigen::VectorXd(dx.rowwise().norm()) : Eigen::VectorXd::Zero(x.rows());
   const SurfaceIndex& index = surface_index(body);
-  const PointKdTree& faces = index.faces;
   const double face_reach = index.face_reach;
+  // Within r of the centroid, as a KD-tree over the centroids would be asked (squared, strict).
+  auto within = [](const Eigen::MatrixXd& points, int p, const Eigen::Vector3d& q, double r) {
+    const double d0 = q[0] - points(p, 0), d1 = q[1] - points(p, 1), d2 = q[2] - points(p, 2);
+    return d0 * d0 + d1 * d1 + d2 * d2 < r * r;
+  };
 
-  // The KD-tree's spheres are loose (every face gets the largest reach): boxes around each
-  // primitive's sweep keep only the pairs that can really come within `distance`.
+  // The grid's cells are a first cut; the centroid's reach and boxes around each primitive's
+  // sweep keep only the pairs that can really come within `distance`.
   std::vector<Box> face_box(static_cast<size_t>(mb));
   for (Eigen::Index f = 0; f < mb; ++f)
     for (int k = 0; k < 3; ++k) face_box[size_t(f)].add(body.V, body_motion, body.F(f, k));
+  std::vector<int> near;
+  const double grow = distance + body_step;  // a face's sweep lies within its box grown by body_step
   for (Eigen::Index i = 0; i < x.rows(); ++i) {
     Box vertex;
     vertex.add(x, dx, int(i));
-    for (int f : faces.within_radius_of(x.row(i).transpose(), distance + step(i) + body_step + face_reach))
-      if (vertex.near(face_box[size_t(f)], distance)) out.vertex_face.push_back({int(i), f});
+    index.faces.near_box((vertex.lo - grow).matrix(), (vertex.hi + grow).matrix(), &near);
+    const Eigen::Vector3d p = x.row(i).transpose();
+    const double reach = distance + step(i) + body_step + face_reach;
+    for (int f : near)
+      if (within(index.centroid, f, p, reach) && vertex.near(face_box[size_t(f)], distance))
+        out.vertex_face.push_back({int(i), f});
   }
 
   if (eb == 0 || cloth_edges.rows() == 0) return out;
@@ -104,7 +124,6 @@ ContactCandidates contact_candidates(const Eigen::MatrixXd& x, const Eigen::Matr
   std::vector<Box> edge_box(static_cast<size_t>(eb));
   for (Eigen::Index e = 0; e < eb; ++e)
     for (int k = 0; k < 2; ++k) edge_box[size_t(e)].add(body.V, body_motion, body.E(e, k));
-  const PointKdTree& edges = index.edges;
   for (Eigen::Index e = 0; e < cloth_edges.rows(); ++e) {
     const int a = cloth_edges(e, 0), b = cloth_edges(e, 1);
     const Eigen::Vector3d mid = (x.row(a) + x.row(b)).transpose() / 2;
@@ -112,8 +131,11 @@ ContactCandidates contact_candidates(const Eigen::MatrixXd& x, const Eigen::Matr
     Box cloth_box;
     cloth_box.add(x, dx, a);
     cloth_box.add(x, dx, b);
-    for (int be : edges.within_radius_of(mid, distance + moved + body_step + half + body_half))
-      if (cloth_box.near(edge_box[size_t(be)], distance)) out.edge_edge.push_back({int(e), be});
+    index.edges.near_box((cloth_box.lo - grow).matrix(), (cloth_box.hi + grow).matrix(), &near);
+    const double reach = distance + moved + body_step + half + body_half;
+    for (int be : near)
+      if (within(index.midpoint, be, mid, reach) && cloth_box.near(edge_box[size_t(be)], distance))
+        out.edge_edge.push_back({int(e), be});
   }
   return out;
 }

@@ -1,9 +1,9 @@
 #pragma once
 // The broad phase of intersection-free contact: which cloth-vertex / body-face and
 // cloth-edge / body-edge pairs can come within a distance of each other during a step. Only
-// candidates: the narrow phase (primitive_distance.h, additive_ccd.h) decides. KD-trees over
-// the body's face centroids and edge midpoints (spatial/point_kd_tree.h), queried with radii
-// grown by the motion of the step, so no pair that can meet is missed.
+// candidates: the narrow phase (primitive_distance.h, additive_ccd.h) decides. Grids over the
+// body's face and edge boxes (spatial/box_grid.h), queried with boxes grown by the motion of the
+// step, then each pair's centroid reach and swept boxes, so no pair that can meet is missed.
 #include <Eigen/Core>
 
 #include <array>
@@ -15,8 +15,8 @@ namespace pb4u {
 struct SurfaceIndex;
 
 // A body surface as contact sees it: vertices (nb x 3, m), outward faces (mb x 3) and its
-// unique edges (eb x 2). `index` caches the KD-trees over its face centroids and edge
-// midpoints between queries; contact_candidates rebuilds it whenever V differs from the
+// unique edges (eb x 2). `index` caches the grids over its face and edge boxes between
+// queries; contact_candidates rebuilds it whenever V differs from the
 // positions it was built at (so V may be assigned freely). Not to be queried from two
 // threads at once.
 struct ContactSurface {
