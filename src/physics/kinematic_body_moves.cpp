@@ -83,15 +83,22 @@ void IncrementalPotentialSolve::readmit_released() {
   set_fallback();
 }
 
+double body_move_cost(double size, bool cut) {
+  if (!cut) return size / kMaxContactStep;
+  return size > kMinBodyMove ? 0.0 : 1.0;
+}
+
 // The body's move of this iteration, the cloth it touches carried along and the pins by the
 // same share of what is left of theirs, in CCD-certified parts (move_body_part; kShrinkBelow).
 // False when nothing moved.
 bool IncrementalPotentialSolve::move_body() {
   double left = body_left();
   if (left <= 0) return false;
-  if (body_moves == 0)
-    moves_allowed = kMaxBodyMoves + (config.release_held_cloth ? int(std::ceil(left / kMaxContactStep)) : 0);
-  if (++body_moves > moves_allowed) {
+  if (!body_moving) {
+    body_moving = true;
+    moves_allowed = kMaxBodyMoves + (config.release_held_cloth ? std::ceil(left / kMaxContactStep) : 0.0);
+  }
+  if (body_moves >= moves_allowed) {
     place_body(left);
     return true;
   }
@@ -101,15 +108,15 @@ bool IncrementalPotentialSolve::move_body() {
   double done = 0;
   bool moved = false;
   for (int part = 0; part < kMoveParts && left > 0; ++part) {
-    if (part > 0 && ++body_moves > moves_allowed) {  // each part is a move
+    if (part > 0 && body_moves >= moves_allowed) {  // each part is a move
       place_body(left);
       return true;
     }
     const double size = std::min(move_size, left);
     const double t = move_body_part(size, left, &moved);
     const bool cut = t < kShrinkBelow;
+    body_moves += body_move_cost(size, cut);
     move_size = cut ? std::max(kMinBodyMove, move_size * std::max(0.1, t)) : std::min(kMaxContactStep, 2 * move_size);
-    if (cut && move_size > kMinBodyMove) --body_moves;  // held back, tried again smaller: not counted
     if (!(t > 0) && move_size <= kMinBodyMove) break;
     done += t * size;
     left = body_left();

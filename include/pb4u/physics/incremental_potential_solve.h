@@ -28,9 +28,10 @@ namespace reference_solve {
 // m: the longest move of a vertex (cloth or body) in one line search of the intersection-free solve.
 constexpr double kMaxContactStep = 5e-2;
 // CCD-certified body moves per step (with solver.release_held_cloth: beyond the ones its motion
-// needs at kMaxContactStep each; a limb swinging 70 cm in a frame needs 14), a move cut and
-// tried again smaller not counted (kShrinkBelow); a body not at its pose after them is placed
-// there.
+// needs at kMaxContactStep each; a limb swinging 70 cm in a frame needs 14); a move cut and
+// tried again smaller is not counted (kShrinkBelow), one taken whole counts its share of
+// kMaxContactStep, so a body that keeps moving in small moves is not placed for their number;
+// a body not at its pose after them is placed there.
 constexpr int kMaxBodyMoves = 24;
 // A body move that some cloth allows less than this fraction of is held back by it (pinched
 // between two body parts, or an edge dragged against a body edge it cannot pass); rounds of
@@ -39,8 +40,8 @@ constexpr double kHeldBelow = 0.1;
 constexpr int kReleaseRounds = 4;
 // A body move cut by CCD below kShrinkBelow of itself is followed by one of what CCD allowed
 // (at least a tenth of it, and no less than kMinBodyMove), one taken whole by one twice as long
-// (up to kMaxContactStep), from iteration to iteration; only a move at kMinBodyMove that is cut
-// counts towards kMaxBodyMoves. The carry (carried_by_body.h) is exact to first order in the
+// (up to kMaxContactStep), from iteration to iteration; a move at kMinBodyMove that is cut counts
+// a whole move towards kMaxBodyMoves. The carry (carried_by_body.h) is exact to first order in the
 // move: a 5 cm move of a limb that turns under a 13 cm cloth edge ends its pairs nearer than
 // the carry kept them, and CCD then cut every move that followed to a sliver (the hard cases'
 // jump at speed 2 from the settled start: its first frame's body stalled 246 mm short of its
@@ -51,6 +52,11 @@ constexpr int kReleaseRounds = 4;
 constexpr double kShrinkBelow = 0.5;
 constexpr double kMinBodyMove = 1e-3;
 constexpr int kMoveParts = 8;
+// What a body move of `size` m counts towards kMaxBodyMoves: taken whole, its share of
+// kMaxContactStep (a body that keeps moving in small moves is not placed for their number);
+// cut (below kShrinkBelow), nothing while it can be tried again smaller, a whole move at
+// kMinBodyMove.
+double body_move_cost(double size, bool cut);
 // Rounds of Provot's pass and the push out of the body that make a start both intersection-free
 // and within the strain limit (solver.strain_limit).
 constexpr int kStartRounds = 10;
@@ -173,7 +179,8 @@ class IncrementalPotentialSolve {
   Eigen::MatrixXd pin_now, pin_target;
   torch::Tensor pin_index;
   const Eigen::MatrixXd* body_start = nullptr;  // the body where the solve starts
-  int body_moves = 0, moves_allowed = 0;
+  bool body_moving = false;                     // the body has been moved this step
+  double body_moves = 0, moves_allowed = 0;     // counted as body_move_cost() says
   double move_size = kMaxContactStep;  // m: the next part of a body move (kShrinkBelow)
   std::vector<char> released;  // per cloth vertex: left out of contact so that the body could move on
 
