@@ -94,10 +94,8 @@ double body_move_cost(double size, bool cut) {
 bool IncrementalPotentialSolve::move_body() {
   double left = body_left();
   if (left <= 0) return false;
-  if (!body_moving) {
-    body_moving = true;
+  if (moves_allowed == 0)  // the step's first move: at least kMaxBodyMoves from here on
     moves_allowed = kMaxBodyMoves + (config.release_held_cloth ? std::ceil(left / kMaxContactStep) : 0.0);
-  }
   if (body_moves >= moves_allowed) {
     place_body(left);
     return true;

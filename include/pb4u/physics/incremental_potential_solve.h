@@ -179,8 +179,7 @@ class IncrementalPotentialSolve {
   Eigen::MatrixXd pin_now, pin_target;
   torch::Tensor pin_index;
   const Eigen::MatrixXd* body_start = nullptr;  // the body where the solve starts
-  bool body_moving = false;                     // the body has been moved this step
-  double body_moves = 0, moves_allowed = 0;     // counted as body_move_cost() says
+  double body_moves = 0, moves_allowed = 0;  // counted as body_move_cost() says; 0 allowed: not yet moved
   double move_size = kMaxContactStep;  // m: the next part of a body move (kShrinkBelow)
   std::vector<char> released;  // per cloth vertex: left out of contact so that the body could move on
 
