@@ -502,6 +502,7 @@ SolverResult IncrementalPotentialSolve::run() {
     last_slope = slope;
     const bool at_rest = step_norm <= config.step_tolerance || !(slope < 0) || small_decrease(slope);
     if (at_rest && !body_moved && body_home) {
+      if (readmit_at_rest()) continue;  // cloth out of contact freed where it rests: go on
       // No descent left along the Hessian's direction although the step is not small: not a
       // minimum (a barrier pair nearly touching can leave the solve without one).
       stopped_by = step_norm <= config.step_tolerance || small_decrease(slope) ? "rest" : "lost descent";
@@ -524,6 +525,7 @@ SolverResult IncrementalPotentialSolve::run() {
       ++result.iterations;
       continue;
     }
+    if (readmit_at_rest()) continue;
     stopped_by = blocked_by ? blocked_by : "the line search (no decrease along the direction)";
     break;  // no decrease left at this precision
   }
@@ -547,11 +549,11 @@ SolverResult IncrementalPotentialSolve::finish() {
     drop_pairs_of(excluded, barrier->cloth_edges, &last);
     result.min_distance = barrier_potential(X, barrier->cloth_edges, body, last, settings).min_distance;
     spdlog::debug("barrier step: {} iterations, {} evaluations, {} candidate pairs last, min distance {:.3g} mm, "
-                  "{} released for the body's moves, body placed {:.3g} mm short, kappa {:.3g}, max strain {:.3g} ({} edges out of the strain barrier), "
+                  "{} released for the body's moves, {} readmitted where the solve stopped, body placed {:.3g} mm short, kappa {:.3g}, max strain {:.3g} ({} edges out of the strain barrier), "
                   "smallest area ratio {:.3g} ({} faces out of the area barrier), "
                   "stopped by {} (step {:.3g} mm, largest gradient {:.3g} N), {:.0f} ms",
                   result.iterations, result.evaluations, candidates.size(), 1e3 * result.min_distance,
-                  result.released, 1e3 * result.body_lag, settings.stiffness, result.max_strain, result.strain_excluded,
+                  result.released, result.readmitted_at_rest, 1e3 * result.body_lag, settings.stiffness, result.max_strain, result.strain_excluded,
                   result.min_area_ratio, result.area_excluded,
                   stopped_by, 1e3 * step_norm, result.gradient_norm, ms_since(start_time));
   }

@@ -41,11 +41,12 @@ void IncrementalPotentialSolve::place_body(double left) {
   move_pins(pin_target);
   if (config.push_out_caught)  // the cloth the placed body now cuts or holds pushed out of it first
     q = free_coordinates(pushed_out_of_body({}), free, opts);
-  const std::vector<char> caught =
+  const std::vector<char> held =
       vertices_not_free_of(positions(q), barrier->cloth_edges, body.V, body.F, barrier->settings.d_hat);
-  for (size_t i = 0; i < caught.size(); ++i)
-    if (caught[i] && !excluded[i]) {
+  for (size_t i = 0; i < held.size(); ++i)
+    if (held[i] && !excluded[i]) {
       excluded[i] = 1;
+      mark_caught(i);
       ++result.excluded;
       ++result.caught_by_body;
     }
@@ -53,6 +54,12 @@ void IncrementalPotentialSolve::place_body(double left) {
   candidates = contact_candidates(positions(q), {}, barrier->cloth_edges, body, {}, barrier->settings.d_hat);
   drop_pairs_of(excluded, barrier->cloth_edges, &candidates);
   result.body_lag = left;
+}
+
+// Vertex i counted in SolverResult::caught_by_body (the caller counts it).
+void IncrementalPotentialSolve::mark_caught(size_t i) {
+  if (caught.empty()) caught.assign(size_t(n), 0);
+  caught[i] = 1;
 }
 
 // m: the longest move left to the body or a pin.
@@ -71,7 +78,7 @@ void IncrementalPotentialSolve::readmit_released() {
   int back = 0;
   for (Eigen::Index i = 0; i < n; ++i)
     if (released[size_t(i)] && !still[size_t(i)]) {
-      excluded[size_t(i)] = released[size_t(i)] = 0;
+      excluded[size_t(i)] = released[size_t(i)] = caught[size_t(i)] = 0;
       ++back;
     } else if (released[size_t(i)]) {
       out.row(i) = X.row(i);
@@ -153,6 +160,7 @@ double IncrementalPotentialSolve::move_body_part(double size, double left, bool*
       if (holding[size_t(i)] && !excluded[size_t(i)]) {  // a pin too: it stays on its path, out of contact
         if (released.empty()) released.assign(size_t(n), 0);
         excluded[size_t(i)] = released[size_t(i)] = 1;
+        mark_caught(size_t(i));
         ++newly;
       }
     if (newly == 0) break;

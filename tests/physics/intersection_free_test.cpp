@@ -1143,8 +1143,8 @@ struct PlatesClosingOnCloth {
 
 TEST(IntersectionFreeSolver, ClothPinchedByABodyClosingOnItselfIsReportedNotStuck) {
   // Plates as wide as the cloth: no intersection-free place is left while the upper plate
-  // comes down. By default the plate is placed at its pose after its moves and the cloth it
-  // then holds leaves barrier contact. With solver.release_held_cloth the cloth that holds the
+  // comes down. Not released, the plate is placed at its pose after its moves and the cloth it
+  // then holds leaves barrier contact (and stays out, solver.readmit_at_rest off). With solver.release_held_cloth the cloth that holds the
   // plate back leaves contact as it comes down, the plate gets to its pose (through the lower
   // one), and there the cloth is pushed out of both, above them, and rejoins barrier contact.
   PlatesClosingOnCloth scene(4, 0.5);
@@ -1154,6 +1154,9 @@ TEST(IntersectionFreeSolver, ClothPinchedByABodyClosingOnItselfIsReportedNotStuc
     SCOPED_TRACE(release ? "released" : "placed");
     PhysicsConfig config = barrier_config();
     config.solver.release_held_cloth = release;
+    // Caught, the cloth would be pushed out above both plates where the solve stops, as the
+    // released cloth is (ClothCaughtByThePlacedBodyRejoinsContactWhereTheSolveStops).
+    config.solver.readmit_at_rest = release;
     const TermList terms = build_terms(state.effects, config);
     const SolverResult r = solve_reference_frame(state, cloth, terms, config);
     EXPECT_LE(r.iterations, config.solver.max_iterations);
@@ -1264,6 +1267,38 @@ TEST(IntersectionFreeSolver, ClothTheBodyIsPlacedOnIsPushedOutOfItWhereThereIsRo
       EXPECT_EQ(f.edges_through, 0);
     } else {
       EXPECT_EQ(r.caught_by_body, patch.V.rows());
+    }
+  }
+}
+
+TEST(IntersectionFreeSolver, ClothCaughtByThePlacedBodyRejoinsContactWhereTheSolveStops) {
+  // Not released, the sphere gets its 24 moves (1.2 m of the 2 m) and is placed at its pose onto
+  // the patch, which is caught. The solve goes on and stops; with solver.readmit_at_rest the
+  // whole patch is then pushed out of the sphere as a start is, rejoins barrier contact, and
+  // the solve goes on to rest outside it. Without it the patch stays with the penalty term.
+  SphereMovingOntoAPatch scene;
+  const Eigen::MatrixXi edges = unique_edges(scene.patch.F);
+  for (const bool readmit : {true, false}) {
+    SCOPED_TRACE(readmit ? "readmitted" : "left out");
+    PhysicsConfig config = barrier_config();
+    config.solver.release_held_cloth = false;
+    config.solver.barrier_keeps_penalty = false;
+    config.solver.readmit_at_rest = readmit;
+    const TermList terms = build_terms(scene.state.effects, config);
+    const SolverResult r = solve_reference_frame(scene.state, scene.cloth, terms, config);
+    EXPECT_GT(r.body_lag, 0.5);  // placed, not reached
+    ASSERT_TRUE(torch::isfinite(r.x_next).all().item<bool>());
+    if (readmit) {
+      EXPECT_EQ(r.readmitted_at_rest, scene.patch.V.rows());
+      EXPECT_EQ(r.excluded, 0);
+      EXPECT_EQ(r.caught_by_body, 0);
+      const Freedom f = freedom(tensor_to_matrix(r.x_next), edges, scene.next, scene.sphere.F);
+      EXPECT_GT(f.min_distance, 0);
+      EXPECT_EQ(f.edges_through, 0);
+    } else {
+      EXPECT_EQ(r.readmitted_at_rest, 0);
+      EXPECT_EQ(r.caught_by_body, scene.patch.V.rows());
+      EXPECT_EQ(r.excluded, r.caught_by_body);
     }
   }
 }

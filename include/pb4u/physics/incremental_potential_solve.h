@@ -52,6 +52,9 @@ constexpr int kReleaseRounds = 4;
 constexpr double kShrinkBelow = 0.5;
 constexpr double kMinBodyMove = 1e-3;
 constexpr int kMoveParts = 8;
+// Tries a step makes at readmitting the cloth left out of contact where its solve stops
+// (solver.readmit_at_rest).
+constexpr int kReadmitsAtRest = 2;
 // What a body move of `size` m counts towards kMaxBodyMoves: taken whole, its share of
 // kMaxContactStep (a body that keeps moving in small moves is not placed for their number);
 // cut (below kShrinkBelow), nothing while it can be tried again smaller, a whole move at
@@ -111,7 +114,9 @@ class IncrementalPotentialSolve {
   Eigen::MatrixXd pushed_out_of_body(const std::vector<char>& moved) const;
   void place_body(double left);
   double body_left() const;
+  void mark_caught(size_t i);
   void readmit_released();
+  bool readmit_at_rest();
   bool move_body();
   double move_body_part(double size, double left, bool* moved);
   // --- one iteration's step ---
@@ -182,6 +187,8 @@ class IncrementalPotentialSolve {
   double body_moves = 0, moves_allowed = 0;  // counted as body_move_cost() says; 0 allowed: not yet moved
   double move_size = kMaxContactStep;  // m: the next part of a body move (kShrinkBelow)
   std::vector<char> released;  // per cloth vertex: left out of contact so that the body could move on
+  std::vector<char> caught;    // per cloth vertex: counted in SolverResult::caught_by_body
+  int readmits_at_rest = 0;    // readmit_at_rest() tries this step (kReadmitsAtRest at most)
 
   // The step.
   InverseHessian initial;

@@ -40,6 +40,8 @@ struct SolverResult {
   int released = 0;          // vertices that held a body move back and left barrier contact so
                              // that the body could move on (those the body, at its pose, left
                              // room for rejoined it and are not in `excluded`)
+  int readmitted_at_rest = 0;  // vertices out of contact that rejoined it where the solve had
+                               // stopped (solver.readmit_at_rest; no longer in `excluded`)
   std::vector<char> excluded_vertices;  // per cloth vertex, 1 for those left out (empty: none)
   // Strain barrier only (solver.strain_limit > 0; 0 / 0 otherwise):
   double max_strain = 0;     // largest edge strain at x_next over the edges in the barrier
