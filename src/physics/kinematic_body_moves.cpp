@@ -62,6 +62,17 @@ void IncrementalPotentialSolve::mark_caught(size_t i) {
   caught[i] = 1;
 }
 
+// Vertex i, left out of barrier contact, rejoins it (uncounted where it was counted).
+void IncrementalPotentialSolve::rejoin_contact(size_t i) {
+  excluded[i] = 0;
+  --result.excluded;
+  if (!released.empty()) released[i] = 0;
+  if (!caught.empty() && caught[i]) {
+    caught[i] = 0;
+    --result.caught_by_body;
+  }
+}
+
 // m: the longest move left to the body or a pin.
 double IncrementalPotentialSolve::body_left() const {
   const double pins = pin_rows.empty() ? 0.0 : pins_left().rowwise().norm().maxCoeff();
@@ -78,14 +89,12 @@ void IncrementalPotentialSolve::readmit_released() {
   int back = 0;
   for (Eigen::Index i = 0; i < n; ++i)
     if (released[size_t(i)] && !still[size_t(i)]) {
-      excluded[size_t(i)] = released[size_t(i)] = caught[size_t(i)] = 0;
+      rejoin_contact(size_t(i));
       ++back;
     } else if (released[size_t(i)]) {
       out.row(i) = X.row(i);
     }
   if (back == 0) return;
-  result.excluded -= back;
-  result.caught_by_body -= back;
   q = free_coordinates(out, free, opts);
   set_fallback();
 }

@@ -32,17 +32,8 @@ bool IncrementalPotentialSolve::readmit_at_rest() {
     if (excluded[k] && !still[k] && free_flags[k]) ++back;
   }
   if (back == 0) return false;
-  for (Eigen::Index i = 0; i < n; ++i) {
-    const size_t k = size_t(i);
-    if (!excluded[k] || still[k] || !free_flags[k]) continue;
-    excluded[k] = 0;
-    if (!released.empty()) released[k] = 0;
-    if (!caught.empty() && caught[k]) {
-      caught[k] = 0;
-      --result.caught_by_body;
-    }
-  }
-  result.excluded -= back;
+  for (Eigen::Index i = 0; i < n; ++i)
+    if (excluded[size_t(i)] && !still[size_t(i)] && free_flags[size_t(i)]) rejoin_contact(size_t(i));
   result.readmitted_at_rest += back;
   q = free_coordinates(out, free, opts);
   if (strain) exclude_overstretched(out);  // edges the push stretched past the limit

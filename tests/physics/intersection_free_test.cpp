@@ -1144,9 +1144,10 @@ struct PlatesClosingOnCloth {
 TEST(IntersectionFreeSolver, ClothPinchedByABodyClosingOnItselfIsReportedNotStuck) {
   // Plates as wide as the cloth: no intersection-free place is left while the upper plate
   // comes down. Not released, the plate is placed at its pose after its moves and the cloth it
-  // then holds leaves barrier contact (and stays out, solver.readmit_at_rest off). With solver.release_held_cloth the cloth that holds the
-  // plate back leaves contact as it comes down, the plate gets to its pose (through the lower
-  // one), and there the cloth is pushed out of both, above them, and rejoins barrier contact.
+  // then holds leaves barrier contact (and stays out, solver.readmit_at_rest off). With
+  // solver.release_held_cloth the cloth that holds the plate back leaves contact as it comes
+  // down, the plate gets to its pose (through the lower one), and there the cloth is pushed out
+  // of both, above them, and rejoins barrier contact.
   PlatesClosingOnCloth scene(4, 0.5);
   const ClothGeometry& cloth = scene.cloth;
   FrameState& state = scene.state;

@@ -115,6 +115,7 @@ class IncrementalPotentialSolve {
   void place_body(double left);
   double body_left() const;
   void mark_caught(size_t i);
+  void rejoin_contact(size_t i);
   void readmit_released();
   bool readmit_at_rest();
   bool move_body();
