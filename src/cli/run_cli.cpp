@@ -34,9 +34,10 @@ int report(const std::string& message) {
 }  // namespace
 
 void apply_global_options(const GlobalOptions& options) {
-  spdlog::set_level(options.verbose ? spdlog::level::debug
-                    : options.quiet ? spdlog::level::warn
-                                    : spdlog::level::info);
+  spdlog::set_level(options.verbose > 1   ? spdlog::level::trace
+                    : options.verbose == 1 ? spdlog::level::debug
+                    : options.quiet        ? spdlog::level::warn
+                                           : spdlog::level::info);
   Progress::set_quiet(options.quiet);
   configure_threads(options.threads);
   log_runtime_info();
@@ -57,7 +58,9 @@ int run_cli(int argc, char** argv) {
   GlobalOptions global;
   app.add_option("--threads", global.threads, "Worker threads (0 = all cores)")
       ->check(CLI::NonNegativeNumber);
-  app.add_flag("-v,--verbose", global.verbose, "Debug logging");
+  app.add_flag("-v,--verbose", global.verbose,
+               "Debug logging (each solve's summary line); -vv also each solver iteration: its step, the "
+               "part CCD and the line search let it take, the energy's decrease, the closest pair");
   app.add_flag("-q,--quiet", global.quiet, "Warnings and errors only; no progress bars");
 
   add_inspect_command(app, global);

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <deque>
 #include <functional>
+#include <string>
 
 #include "pb4u/mesh/edges.h"
 #include "pb4u/physics/barrier_objective.h"
@@ -400,6 +401,7 @@ void IncrementalPotentialSolve::factorize() {
 // can be taken.
 double IncrementalPotentialSolve::feasible_step(const torch::Tensor& d, const char** blocked_by) {
   double t = 1.0;
+  step_bound = "nothing";
   if (barrier) {
     // Every pair the step can bring within d_hat, and the part of the step CCD certifies.
     // A step moves no vertex more than kMaxContactStep: the broad phase stays local and
@@ -415,12 +417,18 @@ double IncrementalPotentialSolve::feasible_step(const torch::Tensor& d, const ch
       *blocked_by = "CCD (no safe step along the direction)";
       return 0;
     }
-    if (longest > kMaxContactStep) t *= kMaxContactStep / longest;
+    if (t < 1) step_bound = "CCD";
+    if (longest > kMaxContactStep) {
+      t *= kMaxContactStep / longest;
+      if (step_bound[0] == 'n') step_bound = "the move cap";
+    }
   }
   if (strain) {  // no edge past the limit anywhere along the step
     const Eigen::MatrixXd X = positions(q);
-    t = std::min(t, max_strain_step(X, positions(q + t * d) - X, strain_edges, rest_length, config.strain_limit,
-                                    strain_excluded) * t);
+    const double s = max_strain_step(X, positions(q + t * d) - X, strain_edges, rest_length, config.strain_limit,
+                                     strain_excluded);
+    if (s < 1) step_bound = "the strain limit";
+    t = std::min(t, s * t);
     if (!(t > 0)) {  // an edge at the limit along d: nothing left to take
       *blocked_by = "the strain limit (no step along the direction)";
       return 0;
@@ -428,7 +436,9 @@ double IncrementalPotentialSolve::feasible_step(const torch::Tensor& d, const ch
   }
   if (area) {  // no face through a collapse anywhere along the step
     const Eigen::MatrixXd X = positions(q);
-    t = std::min(t, max_area_step(X, positions(q + t * d) - X, area_faces, area_excluded) * t);
+    const double s = max_area_step(X, positions(q + t * d) - X, area_faces, area_excluded);
+    if (s < 1) step_bound = "the area barrier";
+    t = std::min(t, s * t);
     if (!(t > 0)) {
       *blocked_by = "the area barrier (no step along the direction)";
       return 0;
@@ -463,6 +473,19 @@ void IncrementalPotentialSolve::accept(const torch::Tensor& q_new, const torch::
   ++result.iterations;
   readmit_relaxed_edges_and_faces();
   adapt_barrier_stiffness();
+}
+
+void IncrementalPotentialSolve::trace_iteration(const torch::Tensor& d, const torch::Tensor& q_new, double t_feasible,
+                                                double E_new, double slope) const {
+  const double moved = (q_new - q).abs().max().item<double>();
+  const int64_t vertex = free[d.abs().argmax().item<int64_t>() / 3].item<int64_t>();
+  const long halvings = moved > 0 ? std::lround(std::log2(t_feasible * step_norm / moved)) : 0;
+  const std::string contact =
+      barrier ? fmt::format(", closest pair {:.3g} mm, kappa {:.3g}", 1e3 * closest, settings.stiffness) : "";
+  spdlog::trace("  iteration {}: step {:.3g} mm (vertex {}), {:.3g} of it feasible ({} cut it), {:.3g} mm taken "
+                "({} halvings), energy {:+.3g} J (slope {:.3g} J){}",
+                result.iterations, 1e3 * step_norm, vertex, t_feasible, step_bound, 1e3 * moved, halvings, E_new - E,
+                slope, contact);
 }
 
 // IPC's adaptive stiffness: a pair still closing in below barrier_gap x d_hat doubles kappa
@@ -518,6 +541,7 @@ SolverResult IncrementalPotentialSolve::run() {
     torch::Tensor q_new, g_new;
     double E_new = E;
     if (!blocked_by && line_search(d, slope, t, &q_new, &g_new, &E_new)) {
+      if (spdlog::should_log(spdlog::level::trace)) trace_iteration(d, q_new, t, E_new, slope);
       accept(q_new, g_new, E_new);
       continue;
     }

@@ -8,7 +8,8 @@ namespace pb4u {
 
 struct GlobalOptions {
   int threads = 0;  // 0 = all cores
-  bool verbose = false, quiet = false;
+  int verbose = 0;  // -v: debug logging; -vv: also the solver's every iteration (trace)
+  bool quiet = false;
 };
 
 // Applies -v/-q/--threads: logging level, progress bars, torch threads, runtime log line.

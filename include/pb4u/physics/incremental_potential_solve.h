@@ -125,6 +125,9 @@ class IncrementalPotentialSolve {
   bool line_search(const torch::Tensor& d, double slope, double t, torch::Tensor* q_new, torch::Tensor* g_new,
                    double* E_new);
   void accept(const torch::Tensor& q_new, const torch::Tensor& g_new, double E_new);
+  // -vv: one line per iteration (its direction, what of it was taken and why, the decrease).
+  void trace_iteration(const torch::Tensor& d, const torch::Tensor& q_new, double t_feasible, double E_new,
+                       double slope) const;
   void adapt_barrier_stiffness();
   SolverResult finish();
   bool small_decrease(double slope) const {
@@ -203,6 +206,7 @@ class IncrementalPotentialSolve {
   double step_norm = 0;
   double last_slope = 0;  // g.d of the last direction
   const char* stopped_by = nullptr;  // why the loop ended (the debug log says)
+  const char* step_bound = "nothing";  // what cut the last direction short (feasible_step; the trace says)
 };
 
 }  // namespace reference_solve
