@@ -46,7 +46,8 @@ void add_evaluate_command(CLI::App& app, const GlobalOptions& global) {
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--refine-tolerance", args->refine_tolerance,
                   "Refine each network step until the solver's step is below MM millimetres; with --refine N, "
-                  "N iterations first, then on until below MM (refine.tolerance_mm)")
+                  "at most N iterations first (fewer where the step is below MM already), then on until below MM "
+                  "(refine.tolerance_mm)")
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--start", args->start,
                   "How frame 0 is reached (config key start): skinned (the garment skinned to the start pose and "

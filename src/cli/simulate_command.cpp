@@ -48,7 +48,8 @@ void add_simulate_command(CLI::App& app, const GlobalOptions& global) {
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--refine-tolerance", args->refine_tolerance,
                   "Refine each network step until the solver's step is below MM millimetres; with --refine N, "
-                  "N iterations first, then on until below MM (scene key refine.tolerance_mm)")
+                  "at most N iterations first (fewer where the step is below MM already), then on until below MM "
+                  "(scene key refine.tolerance_mm)")
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--minimum-every", args->minimum_every,
                   "Every N-th frame, solve the frame's step on to the energy's minimum (to 0.001 mm) and write "

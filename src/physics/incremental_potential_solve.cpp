@@ -523,12 +523,13 @@ SolverResult IncrementalPotentialSolve::run() {
     // Done when the cloth is at rest and the body at its pose (a body held up tries again).
     const bool body_home = !barrier || body_left() <= 0;
     last_slope = slope;
-    const bool at_rest = step_norm <= config.step_tolerance || !(slope < 0) || small_decrease(slope);
+    const bool small_step = step_norm <= config.step_tolerance && result.iterations >= config.min_iterations;
+    const bool at_rest = small_step || !(slope < 0) || small_decrease(slope);
     if (at_rest && !body_moved && body_home) {
       if (readmit_at_rest()) continue;  // cloth out of contact freed where it rests: go on
       // No descent left along the Hessian's direction although the step is not small: not a
       // minimum (a barrier pair nearly touching can leave the solve without one).
-      stopped_by = step_norm <= config.step_tolerance || small_decrease(slope) ? "rest" : "lost descent";
+      stopped_by = small_step || small_decrease(slope) ? "rest" : "lost descent";
       break;
     }
     if (!body_home) body_moved = true;  // keep going: the next iteration moves or places the body

@@ -70,6 +70,14 @@ RefiningSolvers refining_solvers(const ReferenceSolverConfig& solver, const Refi
   if (refine.iterations > 0 || !(refine.tolerance_mm > 0)) {
     s.fixed = refining_solver(base, refine.iterations, 0);
     if (to_tolerance_only) s.fixed->own_start_where_left_out = false;
+    // With a tolerance too, the count is a most: it stops where its step is below the
+    // tolerance, as the solve to the tolerance would. Its first Newton step is taken however
+    // small: on a stiff cloth near rest a step already within 1 mm can hold a large share of the
+    // frame's energy, which that one step takes out.
+    if (refine.tolerance_mm > 0) {
+      s.fixed->step_tolerance = 1e-3 * refine.tolerance_mm;
+      s.fixed->min_iterations = 1;
+    }
   }
   if (refine.tolerance_mm > 0) {
     s.to_tolerance = refining_solver(base, 0, refine.tolerance_mm);

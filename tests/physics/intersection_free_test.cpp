@@ -924,9 +924,12 @@ TEST(RefinedStep, FewerLeftOutToToleranceCountsFromTheStepAndSolvesToTheToleranc
   ASSERT_FALSE(torch::equal(fewer, at_step)) << "fewer_left_out sweeps at a fixed count";
   EXPECT_TRUE(torch::equal(refined("fewer_left_out_to_tolerance", 2, 0, &log), at_step));
   EXPECT_GT(log.excluded, 0);
-  // 2 iterations then to 1 mm, and then to a tolerance the 2 iterations already meet: at_step
-  // stops with the cloth through the sphere, the rule goes on from its own sweep.
-  ASSERT_TRUE(torch::equal(refined("at_step", 2, 1000.0, &log), at_step));
+  // 2 iterations at most then to 1 mm, and then to a tolerance the start already meets: at_step
+  // stops after its first iteration with the cloth through the sphere, the rule goes on from
+  // its own sweep.
+  const torch::Tensor one = refined("at_step", 1, 0, &log);
+  ASSERT_TRUE(torch::equal(refined("at_step", 2, 1000.0, &log), one));
+  ASSERT_GT(freedom(tensor_to_matrix(one), s.edges, at_next, s.sphere.F).edges_through, 0);
   for (const double tolerance_mm : {1.0, 1000.0}) {
     const torch::Tensor x = refined("fewer_left_out_to_tolerance", 2, tolerance_mm, &log);
     EXPECT_EQ(log.excluded, 0) << tolerance_mm << " mm";
@@ -1090,7 +1093,7 @@ TEST(RefinedStep, ClothPinchedWhereTheBodyCrossesItselfIsPushedTowardsTheFacesNo
   EXPECT_FALSE(apart_input->solved_contact(apart, &*all));
 }
 
-TEST(RefinedStep, ACountThenAToleranceRunsTheCountFirstThenOnToTheMinimum) {
+TEST(RefinedStep, ACountThenAToleranceStopsTheCountAtTheToleranceThenGoesOnToTheMinimum) {
   const ClothOverSphere scene(0.005);
   const PhysicsConfig config = barrier_config();
   const TermList terms = build_terms(scene.state.effects, config);
@@ -1103,10 +1106,17 @@ TEST(RefinedStep, ACountThenAToleranceRunsTheCountFirstThenOnToTheMinimum) {
     refine.tolerance_mm = tolerance_mm;
     return refine_step(x, scene.state, scene.cloth, terms, &*contact, config.solver, refine);
   };
+  // With a tolerance the count is a most: one its start already meets stops it after its first
+  // iteration...
+  EXPECT_TRUE(torch::equal(refined(into_the_body, 2, 1000), refined(into_the_body, 1, 0)));
+  EXPECT_FALSE(torch::equal(refined(into_the_body, 2, 1000), refined(into_the_body, 2, 0)));
+  // ...and one met within the count stops it there, where the solve to the tolerance alone
+  // stops; the count run whole goes further.
+  const torch::Tensor loose = refined(into_the_body, 0, 0.01);
+  EXPECT_TRUE(torch::equal(refined(into_the_body, 50, 0.01), loose));
+  EXPECT_GT((refined(into_the_body, 50, 0) - loose).abs().max().item<double>(), 1e-7);
+  // A tight one goes on past the count to the minimum: one more iteration barely moves it.
   const torch::Tensor two = refined(into_the_body, 2, 0);
-  // A tolerance the count already meets adds nothing.
-  EXPECT_TRUE(torch::equal(refined(into_the_body, 2, 1000), two));
-  // A tight one goes on from there to the minimum: one more iteration barely moves it.
   const torch::Tensor tight = refined(into_the_body, 2, 1e-3);
   const double moved = (tight - two).abs().max().item<double>();
   EXPECT_GT(moved, 1e-5);

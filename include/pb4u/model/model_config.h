@@ -39,8 +39,8 @@ struct ModelConfig {
   // release_held_cloth) but for the count and the tolerance. 0: off (training never refines).
   int refine_iterations = 0;
   // > 0: refine each step until the solver's step is below this (mm; at most the solver's
-  // max_iterations), as `--refine-tolerance` does; with refine_iterations > 0 as well, those
-  // first, then on until below this. 0: off.
+  // max_iterations), as `--refine-tolerance` does; with refine_iterations > 0 as well, at most
+  // those first (fewer where the step is below this already), then on until below this. 0: off.
   double refine_tolerance_mm = 0.0;
   // The refinement's body contact: "penalty" (SPEC 3.3) or "barrier" (intersection-free), and
   // its strain limit as a barrier (physics/strain_barrier.h; 0: none). With barrier contact

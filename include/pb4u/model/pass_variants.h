@@ -13,7 +13,8 @@ namespace pb4u {
 inline constexpr double kShippedProjectionGap = 0.002;
 inline constexpr double kShippedStrainLimit = 0.1;
 // The refinement the tables report beside them (docs/physics.md): 10 iterations of the reference
-// solver with barrier contact, then on until the solver's step is below 1 mm.
+// solver with barrier contact at most (fewer where its step is below 1 mm already), then on
+// until the solver's step is below 1 mm.
 inline constexpr int kTableRefineIterations = 10;
 inline constexpr double kTableRefineToleranceMm = 1.0;
 

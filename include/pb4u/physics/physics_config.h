@@ -80,6 +80,9 @@ struct ReferenceSolverConfig {
   // solver's Hessian metric: the correction still to make) is below this. Unlike a force in N
   // it does not shrink with the vertex masses as the mesh is refined.
   double step_tolerance = 1e-6;
+  // Iterations taken before step_tolerance may stop the solve (not a key: a refinement's count
+  // with a tolerance takes its first Newton step however small, rollout/refined_step.h).
+  int min_iterations = 0;
   // J: also converged when the step's predicted decrease of the energy, -g.d / 2 (half the
   // Newton decrement squared for the Newton step), is below this; 0: off. The last iterations
   // of a step otherwise go to sub-micro-joule buckling modes that move no vertex by much.

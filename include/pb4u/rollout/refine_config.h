@@ -12,7 +12,8 @@ struct RefineConfig {
   int iterations = 0;        // solver iterations after each step; 0 with tolerance_mm 0: off
   double tolerance_mm = 0;   // > 0: iterate (up to the solver's max_iterations) until the
                              // solver's step is below this (mm); with iterations > 0 as well,
-                             // those first, then on until the step is below this
+                             // at most those first (fewer where the step is below
+                             // this already), then on until the step is below this
   // The solver's step for the refinement (physics.solver.step is the solver's own): "newton"
   // lands nearer the minimum per iteration (docs/physics.md, "The Newton step").
   std::string step = "newton";
