@@ -72,8 +72,8 @@ RefiningSolvers refining_solvers(const ReferenceSolverConfig& solver, const Refi
     if (to_tolerance_only) s.fixed->own_start_where_left_out = false;
     // With a tolerance too, the count is a most: it stops where its step is below the
     // tolerance, as the solve to the tolerance would. Its first Newton step is taken however
-    // small: on a stiff cloth near rest a step already within 1 mm can hold a large share of the
-    // frame's energy, which that one step takes out.
+    // small: on a stiff cloth near rest a frame's whole sag can be under the tolerance, and a
+    // count stopped at once would keep the cloth where it started (docs/physics.md).
     if (refine.tolerance_mm > 0) {
       s.fixed->step_tolerance = 1e-3 * refine.tolerance_mm;
       s.fixed->min_iterations = 1;

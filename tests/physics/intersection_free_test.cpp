@@ -1108,8 +1108,9 @@ TEST(RefinedStep, ACountThenAToleranceStopsTheCountAtTheToleranceThenGoesOnToThe
   };
   // With a tolerance the count is a most: one its start already meets stops it after its first
   // iteration...
-  EXPECT_TRUE(torch::equal(refined(into_the_body, 2, 1000), refined(into_the_body, 1, 0)));
-  EXPECT_FALSE(torch::equal(refined(into_the_body, 2, 1000), refined(into_the_body, 2, 0)));
+  const torch::Tensor met_at_start = refined(into_the_body, 2, 1000);
+  EXPECT_TRUE(torch::equal(met_at_start, refined(into_the_body, 1, 0)));
+  EXPECT_FALSE(torch::equal(met_at_start, refined(into_the_body, 2, 0)));
   // ...and one met within the count stops it there, where the solve to the tolerance alone
   // stops; the count run whole goes further.
   const torch::Tensor loose = refined(into_the_body, 0, 0.01);
